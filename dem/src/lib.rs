@@ -1,0 +1,1 @@
+//! CG-DEM engine.
