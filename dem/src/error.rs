@@ -1,0 +1,50 @@
+//! The one error type of the `dem` crate.
+//!
+//! Numerical and input failures are values (`DemError`), never panics: a researcher's script must be able
+//! to report which particle, which parameter or which step went wrong.
+
+use thiserror::Error;
+
+/// Everything the engine can refuse or fail at.
+#[derive(Debug, Error)]
+pub enum DemError {
+    /// A material property outside the range the model can represent.
+    #[error("invalid material: {0}")]
+    InvalidMaterial(String),
+    /// A particle with a non-physical attribute (radius, mass, position ...).
+    #[error("invalid particle {index}: {reason}")]
+    InvalidParticle { index: usize, reason: String },
+    /// The simulation box cannot hold the requested configuration.
+    #[error("invalid box: {0}")]
+    InvalidBox(String),
+    /// A configuration value that makes no sense (negative skin, unknown group ...).
+    #[error("invalid configuration: {0}")]
+    InvalidConfig(String),
+    /// Time step above the critical one of paper 000 eq (6).
+    #[error(
+        "time step {dt:.6e} exceeds the critical time step {dt_critical:.6e} (paper 000 eq 6); \
+         lower it or set allow_supercritical_dt = true"
+    )]
+    TimeStepAboveCritical { dt: f64, dt_critical: f64 },
+    /// Two rigid groups (walls) whose particles overlap in space.
+    #[error("rigid groups '{a}' and '{b}' overlap: {detail}")]
+    OverlappingRigidGroups { a: String, b: String, detail: String },
+    /// A NaN or infinity appeared during integration.
+    #[error("non-finite value at step {step} for particle {index} ({what}); the run diverged (time step too large, or overlapping particles?)")]
+    NonFinite { step: u64, index: usize, what: &'static str },
+    /// Reading or writing a file failed.
+    #[error("i/o error on {path}: {source}")]
+    Io { path: String, source: std::io::Error },
+    /// A checkpoint or sample file that cannot be parsed.
+    #[error("malformed file {path}: {reason}")]
+    Format { path: String, reason: String },
+}
+
+/// Result alias used throughout the crate.
+pub type Result<T, E = DemError> = std::result::Result<T, E>;
+
+impl DemError {
+    pub(crate) fn io(path: &std::path::Path, source: std::io::Error) -> Self {
+        DemError::Io { path: path.display().to_string(), source }
+    }
+}

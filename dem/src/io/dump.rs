@@ -1,0 +1,53 @@
+//! LAMMPS-style text dumps (`ITEM: TIMESTEP ...`), which OVITO opens directly: one frame per call,
+//! columns id, type (group + 1), x, y, z, radius, vx, vy, vz, wx, wy, wz.
+
+use std::io::Write;
+use std::path::Path;
+
+use crate::error::{DemError, Result};
+use crate::sim::Simulation;
+
+/// Appends one frame of `sim` to the dump file at `path` (created if missing).
+pub fn append_frame(sim: &Simulation, path: &Path) -> Result<()> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| DemError::io(dir, e))?;
+    }
+    let file = std::fs::OpenOptions::new().create(true).append(true).open(path).map_err(|e| DemError::io(path, e))?;
+    let mut w = std::io::BufWriter::new(file);
+    write_frame(sim, &mut w).map_err(|e| DemError::io(path, e))?;
+    w.flush().map_err(|e| DemError::io(path, e))
+}
+
+/// Writes one frame to any writer.
+pub fn write_frame(sim: &Simulation, w: &mut impl Write) -> std::io::Result<()> {
+    let p = &sim.particles;
+    let b = &sim.sim_box;
+    writeln!(w, "ITEM: TIMESTEP\n{}", sim.step_count())?;
+    writeln!(w, "ITEM: NUMBER OF ATOMS\n{}", p.len())?;
+    let flags: Vec<&str> = b.periodic.iter().map(|&q| if q { "pp" } else { "ff" }).collect();
+    writeln!(w, "ITEM: BOX BOUNDS {} {} {}", flags[0], flags[1], flags[2])?;
+    for a in 0..3 {
+        writeln!(w, "{:.17e} {:.17e}", b.lo[a], b.hi[a])?;
+    }
+    writeln!(w, "ITEM: ATOMS id type x y z radius vx vy vz omegax omegay omegaz")?;
+    for i in 0..p.len() {
+        let (x, v, o) = (p.pos[i], p.vel[i], p.omega[i]);
+        writeln!(
+            w,
+            "{} {} {:.10e} {:.10e} {:.10e} {:.10e} {:.6e} {:.6e} {:.6e} {:.6e} {:.6e} {:.6e}",
+            i + 1,
+            p.group[i] + 1,
+            x.x,
+            x.y,
+            x.z,
+            p.radius[i],
+            v.x,
+            v.y,
+            v.z,
+            o.x,
+            o.y,
+            o.z
+        )?;
+    }
+    Ok(())
+}

@@ -1,0 +1,3 @@
+//! Output: LAMMPS-style dumps and checkpoints.
+pub mod checkpoint;
+pub mod dump;

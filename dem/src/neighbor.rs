@@ -1,0 +1,353 @@
+//! Neighbour search: a cell list builds a half Verlet list (each pair once) with a skin; the list is
+//! rebuilt only when particles (or the box) have moved enough to bring a new pair into range.
+//!
+//! - Pairs are `(i, j, image)` with `i < j`, or `i == j` for a particle facing its own periodic image
+//!   (thin boxes such as the L x L x 3 d0 slabs of the papers need this). The separation vector is
+//!   `x_j + image * L - x_i`; images are explicit, so a box only has to be longer than one interaction
+//!   range along a periodic axis (minimum-image would need two).
+//! - A pair enters the list when its centre distance is below `r_i + r_j + delta_f + skin`, the
+//!   per-pair range: correct for polydisperse sizes.
+//! - Rebuild criterion: twice the largest displacement since the last build plus the change of the box
+//!   edges exceeds the skin (no pair can then have crossed into range unseen).
+//! - Positions are wrapped into the box only at a rebuild. The tangential history of a pair survives:
+//!   the old images are corrected by the wraps, then each new pair looks its history up in the old row
+//!   of the same particle (rows hold a dozen pairs, so a linear scan beats any hash map).
+//! - The list is stored as flat arrays (pair-major), plus a reverse index (for each particle, the pairs
+//!   where it is `j`) so forces are gathered per particle in a fixed order: deterministic for any
+//!   thread count.
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::domain::SimBox;
+use crate::error::{DemError, Result};
+use crate::Vec3;
+
+/// Periodic image of a pair, in box lengths along each axis.
+pub type Image = [i8; 3];
+
+/// Half neighbour list with per-pair tangential history.
+#[derive(Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
+pub struct NeighborList {
+    /// Extra range beyond the interaction cutoff.
+    pub skin: f64,
+    /// First particle of each pair.
+    pub i: Vec<u32>,
+    /// Second particle of each pair.
+    pub j: Vec<u32>,
+    /// Image of `j` seen from `i`.
+    pub image: Vec<Image>,
+    /// Tangential sliding displacement of each pair (zero when out of interaction range).
+    pub hist: Vec<Vec3>,
+    /// `row_start[i]..row_start[i+1]` are the pairs whose first particle is `i`.
+    pub row_start: Vec<u32>,
+    /// `rev_start[j]..rev_start[j+1]` index `rev_pair`, the pairs whose second particle is `j`.
+    pub rev_start: Vec<u32>,
+    /// Pair indices sorted by second particle, then pair index.
+    pub rev_pair: Vec<u32>,
+    /// Positions at the last build.
+    ref_pos: Vec<Vec3>,
+    /// Box lengths at the last build.
+    ref_lengths: Vec3,
+    /// Number of builds so far.
+    pub builds: u64,
+}
+
+/// Per-pair interaction range, provided by the force model.
+pub trait PairRange: Sync {
+    /// Centre distance below which the pair (r_i, r_j) interacts.
+    fn cutoff(&self, ri: f64, rj: f64) -> f64;
+    /// Largest cutoff for any pair of radii up to `r_max`.
+    fn max_cutoff(&self, r_max: f64) -> f64;
+}
+
+impl NeighborList {
+    /// An empty list with the given skin (build it before use).
+    pub fn new(skin: f64) -> Result<Self> {
+        if !(skin.is_finite() && skin >= 0.0) {
+            return Err(DemError::InvalidConfig(format!("neighbour skin {skin} must be >= 0")));
+        }
+        Ok(NeighborList { skin, ..Default::default() })
+    }
+
+    /// Number of pairs.
+    pub fn len(&self) -> usize {
+        self.i.len()
+    }
+
+    /// Whether the list holds no pair.
+    pub fn is_empty(&self) -> bool {
+        self.i.is_empty()
+    }
+
+    /// Whether the particles or the box have moved enough since the last build to need a new list.
+    pub fn needs_rebuild(&self, pos: &[Vec3], bx: &SimBox) -> bool {
+        if self.ref_pos.len() != pos.len() || self.row_start.len() != pos.len() + 1 {
+            return true;
+        }
+        let max_d2 = pos
+            .par_iter()
+            .with_min_len(4096)
+            .zip(self.ref_pos.par_iter())
+            .map(|(a, b)| (a - b).norm_squared())
+            .reduce(|| 0.0, f64::max);
+        let dl = (bx.lengths() - self.ref_lengths).norm();
+        2.0 * max_d2.sqrt() + dl > self.skin
+    }
+
+    /// Rebuilds the list for `pos` (wrapped into the box in place), keeping the history of pairs that
+    /// persist.
+    pub fn build(&mut self, pos: &mut [Vec3], radius: &[f64], bx: &SimBox, range: &impl PairRange) -> Result<()> {
+        let n = pos.len();
+        let _span = tracing::trace_span!("neighbor_build", n).entered();
+        // Wrap, remembering by how many box lengths each particle moved, to correct the old images.
+        let l = bx.lengths();
+        let mut wraps: Vec<[i8; 3]> = vec![[0; 3]; n];
+        for (x, w) in pos.iter_mut().zip(wraps.iter_mut()) {
+            let before = *x;
+            bx.wrap(x);
+            for a in 0..3 {
+                if bx.periodic[a] {
+                    let k = ((before[a] - x[a]) / l[a]).round();
+                    if k.abs() > 100.0 {
+                        return Err(DemError::InvalidConfig(format!(
+                            "a particle moved {k} box lengths between two neighbour-list builds"
+                        )));
+                    }
+                    w[a] = k as i8;
+                }
+            }
+        }
+        let old_valid = self.row_start.len() == n + 1;
+        if old_valid {
+            for p in 0..self.i.len() {
+                let (wi, wj) = (wraps[self.i[p] as usize], wraps[self.j[p] as usize]);
+                for a in 0..3 {
+                    self.image[p][a] = self.image[p][a].saturating_add(wj[a]).saturating_sub(wi[a]);
+                }
+            }
+        }
+
+        let r_max = radius.iter().cloned().fold(0.0, f64::max);
+        let rc = range.max_cutoff(r_max) + self.skin;
+        let grid = CellGrid::new(pos, bx, rc)?;
+        let (cell_start, cell_particles) = grid.bin(pos);
+
+        // Each particle's row, built in parallel and concatenated in particle order.
+        const CHUNK: usize = 512;
+        let skin = self.skin;
+        let rows: Vec<Vec<(u32, u32, Image)>> = (0..n.div_ceil(CHUNK))
+            .into_par_iter()
+            .map(|c| {
+                let mut out = Vec::new();
+                let mut row: Vec<(u32, Image)> = Vec::new();
+                for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                    row.clear();
+                    let ci = grid.cell_of(&pos[i]);
+                    grid.for_each_neighbor_cell(ci, |cell, img| {
+                        let shift = bx.shift(img);
+                        let (s, e) = (cell_start[cell] as usize, cell_start[cell + 1] as usize);
+                        for &j in &cell_particles[s..e] {
+                            let j = j as usize;
+                            if j < i || (j == i && !positive_image(img)) {
+                                continue;
+                            }
+                            let d = pos[j] + shift - pos[i];
+                            let cut = range.cutoff(radius[i], radius[j]) + skin;
+                            if d.norm_squared() < cut * cut {
+                                row.push((j as u32, img));
+                            }
+                        }
+                    });
+                    row.sort_unstable_by_key(|&(j, img)| (j, img));
+                    out.extend(row.iter().map(|&(j, img)| (i as u32, j, img)));
+                }
+                out
+            })
+            .collect();
+
+        let total: usize = rows.iter().map(Vec::len).sum();
+        let mut new_i = Vec::with_capacity(total);
+        let mut new_j = Vec::with_capacity(total);
+        let mut new_img = Vec::with_capacity(total);
+        for row in &rows {
+            for &(i, j, img) in row {
+                new_i.push(i);
+                new_j.push(j);
+                new_img.push(img);
+            }
+        }
+        let mut row_start = vec![0u32; n + 1];
+        for &i in &new_i {
+            row_start[i as usize + 1] += 1;
+        }
+        for k in 0..n {
+            row_start[k + 1] += row_start[k];
+        }
+        // Carry the history over: same (i, j, image) in the old row of i.
+        let mut new_hist = vec![Vec3::zeros(); total];
+        if old_valid {
+            for i in 0..n {
+                let (ns, ne) = (row_start[i] as usize, row_start[i + 1] as usize);
+                let (os, oe) = (self.row_start[i] as usize, self.row_start[i + 1] as usize);
+                for p in ns..ne {
+                    if let Some(q) = (os..oe).find(|&q| self.j[q] == new_j[p] && self.image[q] == new_img[p]) {
+                        new_hist[p] = self.hist[q];
+                    }
+                }
+            }
+        }
+        // Reverse index by counting sort on j (stable: pair order within each particle).
+        let mut rev_start = vec![0u32; n + 1];
+        for &j in &new_j {
+            rev_start[j as usize + 1] += 1;
+        }
+        for k in 0..n {
+            rev_start[k + 1] += rev_start[k];
+        }
+        let mut fill = rev_start.clone();
+        let mut rev_pair = vec![0u32; total];
+        for (p, &j) in new_j.iter().enumerate() {
+            rev_pair[fill[j as usize] as usize] = p as u32;
+            fill[j as usize] += 1;
+        }
+
+        self.i = new_i;
+        self.j = new_j;
+        self.image = new_img;
+        self.hist = new_hist;
+        self.row_start = row_start;
+        self.rev_start = rev_start;
+        self.rev_pair = rev_pair;
+        self.ref_pos.clear();
+        self.ref_pos.extend_from_slice(pos);
+        self.ref_lengths = l;
+        self.builds += 1;
+        Ok(())
+    }
+
+    /// Forces a rebuild at the next step (the cutoffs changed), keeping the history.
+    pub fn mark_stale(&mut self) {
+        self.ref_pos.clear();
+    }
+
+    /// Forgets all pairs and history (after particles were added or removed).
+    pub fn invalidate(&mut self) {
+        let skin = self.skin;
+        *self = NeighborList { skin, ..Default::default() };
+    }
+}
+
+/// Keeps one of the two equivalent self-image pairs (s and -s).
+fn positive_image(s: Image) -> bool {
+    s > [0, 0, 0]
+}
+
+/// Uniform cell grid over the box (periodic axes) or over the particles' extent (other axes).
+struct CellGrid {
+    lo: Vec3,
+    size: Vec3,
+    n: [usize; 3],
+    periodic: [bool; 3],
+}
+
+impl CellGrid {
+    fn new(pos: &[Vec3], bx: &SimBox, rc: f64) -> Result<Self> {
+        let mut lo = bx.lo;
+        let mut ext = bx.lengths();
+        let mut n = [1usize; 3];
+        // Cap the grid at about 8 cells per particle so sparse non-periodic systems stay cheap.
+        let cap = ((8 * pos.len().max(1)) as f64).cbrt().ceil() as usize + 2;
+        for a in 0..3 {
+            if bx.periodic[a] {
+                if ext[a] < rc {
+                    return Err(DemError::InvalidBox(format!(
+                        "periodic axis {a} is {:.6e} long, shorter than one interaction range plus skin ({rc:.6e})",
+                        ext[a]
+                    )));
+                }
+            } else {
+                let (mn, mx) = pos.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(mn, mx), x| (mn.min(x[a]), mx.max(x[a])));
+                if pos.is_empty() {
+                    lo[a] = 0.0;
+                    ext[a] = rc;
+                } else {
+                    lo[a] = mn;
+                    ext[a] = (mx - mn).max(rc) * (1.0 + 1e-9);
+                }
+            }
+            n[a] = ((ext[a] / rc).floor() as usize).clamp(1, cap);
+        }
+        let size = Vec3::new(ext[0] / n[0] as f64, ext[1] / n[1] as f64, ext[2] / n[2] as f64);
+        Ok(CellGrid { lo, size, n, periodic: bx.periodic })
+    }
+
+    fn count(&self) -> usize {
+        self.n[0] * self.n[1] * self.n[2]
+    }
+
+    fn coords(&self, x: &Vec3) -> [usize; 3] {
+        let mut c = [0usize; 3];
+        for a in 0..3 {
+            let k = ((x[a] - self.lo[a]) / self.size[a]).floor();
+            c[a] = (k.max(0.0) as usize).min(self.n[a] - 1);
+        }
+        c
+    }
+
+    fn cell_of(&self, x: &Vec3) -> usize {
+        let c = self.coords(x);
+        c[0] + self.n[0] * (c[1] + self.n[1] * c[2])
+    }
+
+    /// Counting sort of particles into cells: (start offsets, particle indices), stable in index order.
+    fn bin(&self, pos: &[Vec3]) -> (Vec<u32>, Vec<u32>) {
+        let nc = self.count();
+        let cells: Vec<usize> = pos.iter().map(|x| self.cell_of(x)).collect();
+        let mut start = vec![0u32; nc + 1];
+        for &c in &cells {
+            start[c + 1] += 1;
+        }
+        for k in 0..nc {
+            start[k + 1] += start[k];
+        }
+        let mut fill = start.clone();
+        let mut parts = vec![0u32; pos.len()];
+        for (p, &c) in cells.iter().enumerate() {
+            parts[fill[c] as usize] = p as u32;
+            fill[c] += 1;
+        }
+        (start, parts)
+    }
+
+    /// Calls `f(cell, image)` for the 27 cells around `cell` in the unwrapped tiling; every (cell, image)
+    /// combination is distinct even when an axis has one or two cells.
+    fn for_each_neighbor_cell(&self, cell: usize, mut f: impl FnMut(usize, Image)) {
+        let c = [cell % self.n[0], (cell / self.n[0]) % self.n[1], cell / (self.n[0] * self.n[1])];
+        for dz in -1i64..=1 {
+            for dy in -1i64..=1 {
+                for dx in -1i64..=1 {
+                    let d = [dx, dy, dz];
+                    let mut idx = [0usize; 3];
+                    let mut img = [0i8; 3];
+                    let mut ok = true;
+                    for a in 0..3 {
+                        let k = c[a] as i64 + d[a];
+                        let na = self.n[a] as i64;
+                        if self.periodic[a] {
+                            img[a] = k.div_euclid(na) as i8;
+                            idx[a] = k.rem_euclid(na) as usize;
+                        } else if k < 0 || k >= na {
+                            ok = false;
+                        } else {
+                            idx[a] = k as usize;
+                        }
+                    }
+                    if ok {
+                        f(idx[0] + self.n[0] * (idx[1] + self.n[1] * idx[2]), img);
+                    }
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,2 @@
+//! Sample generators.
+pub mod hcp;

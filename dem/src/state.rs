@@ -1,0 +1,173 @@
+//! Particle state as structure-of-arrays: each attribute is one contiguous vector, so the force and
+//! integration loops stream through exactly the data they need.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{DemError, Result};
+use crate::Vec3;
+
+/// Moment of inertia of a solid sphere, 2/5 m r^2.
+#[inline]
+pub fn sphere_inertia(mass: f64, radius: f64) -> f64 {
+    0.4 * mass * radius * radius
+}
+
+/// Mass of a sphere of density `rho`.
+#[inline]
+pub fn sphere_mass(rho: f64, radius: f64) -> f64 {
+    rho * 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3)
+}
+
+/// All particles of a simulation. Index `i` in every vector is the same particle.
+#[derive(Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
+pub struct Particles {
+    /// Centre positions (not wrapped between neighbour-list rebuilds).
+    pub pos: Vec<Vec3>,
+    /// Translational velocities.
+    pub vel: Vec<Vec3>,
+    /// Angular velocities.
+    pub omega: Vec<Vec3>,
+    /// Radii.
+    pub radius: Vec<f64>,
+    /// Masses.
+    pub mass: Vec<f64>,
+    /// Moments of inertia (solid spheres unless set otherwise).
+    pub inertia: Vec<f64>,
+    /// Group index of each particle (0 is the default group of free particles).
+    pub group: Vec<u32>,
+}
+
+impl Particles {
+    /// Empty set with room for `n` particles.
+    pub fn with_capacity(n: usize) -> Self {
+        Particles {
+            pos: Vec::with_capacity(n),
+            vel: Vec::with_capacity(n),
+            omega: Vec::with_capacity(n),
+            radius: Vec::with_capacity(n),
+            mass: Vec::with_capacity(n),
+            inertia: Vec::with_capacity(n),
+            group: Vec::with_capacity(n),
+        }
+    }
+
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.pos.len()
+    }
+
+    /// Whether there are no particles.
+    pub fn is_empty(&self) -> bool {
+        self.pos.is_empty()
+    }
+
+    /// Adds a solid sphere at rest of density `rho`, in group 0; returns its index.
+    pub fn push_sphere(&mut self, pos: Vec3, radius: f64, rho: f64) -> usize {
+        let m = sphere_mass(rho, radius);
+        self.pos.push(pos);
+        self.vel.push(Vec3::zeros());
+        self.omega.push(Vec3::zeros());
+        self.radius.push(radius);
+        self.mass.push(m);
+        self.inertia.push(sphere_inertia(m, radius));
+        self.group.push(0);
+        self.len() - 1
+    }
+
+    /// Rescales all masses and inertias by `factor` (used to hit a target bulk density).
+    pub fn scale_masses(&mut self, factor: f64) {
+        self.mass.iter_mut().for_each(|m| *m *= factor);
+        self.inertia.iter_mut().for_each(|m| *m *= factor);
+    }
+
+    /// Keeps only the particles for which `keep(i)` is true, preserving order.
+    pub fn retain(&mut self, mut keep: impl FnMut(usize) -> bool) {
+        let mask: Vec<bool> = (0..self.len()).map(&mut keep).collect();
+        fn filter<T: Clone>(v: &mut Vec<T>, mask: &[bool]) {
+            let mut k = 0;
+            v.retain(|_| {
+                k += 1;
+                mask[k - 1]
+            });
+        }
+        filter(&mut self.pos, &mask);
+        filter(&mut self.vel, &mask);
+        filter(&mut self.omega, &mask);
+        filter(&mut self.radius, &mask);
+        filter(&mut self.mass, &mask);
+        filter(&mut self.inertia, &mask);
+        filter(&mut self.group, &mask);
+    }
+
+    /// Total volume of the spheres.
+    pub fn solid_volume(&self) -> f64 {
+        self.radius.iter().map(|r| 4.0 / 3.0 * std::f64::consts::PI * r.powi(3)).sum()
+    }
+
+    /// Checks lengths and that every attribute is finite and physical.
+    pub fn validate(&self) -> Result<()> {
+        let n = self.len();
+        let lens = [
+            self.vel.len(),
+            self.omega.len(),
+            self.radius.len(),
+            self.mass.len(),
+            self.inertia.len(),
+            self.group.len(),
+        ];
+        if lens.iter().any(|&l| l != n) {
+            return Err(DemError::InvalidConfig(format!(
+                "particle arrays have different lengths: pos {n}, others {lens:?}"
+            )));
+        }
+        for i in 0..n {
+            let bad = |reason: String| Err(DemError::InvalidParticle { index: i, reason });
+            if !(self.radius[i].is_finite() && self.radius[i] > 0.0) {
+                return bad(format!("radius {} must be positive", self.radius[i]));
+            }
+            if !(self.mass[i].is_finite() && self.mass[i] > 0.0) {
+                return bad(format!("mass {} must be positive", self.mass[i]));
+            }
+            if !(self.inertia[i].is_finite() && self.inertia[i] > 0.0) {
+                return bad(format!("moment of inertia {} must be positive", self.inertia[i]));
+            }
+            let vecs = [("position", self.pos[i]), ("velocity", self.vel[i]), ("angular velocity", self.omega[i])];
+            for (what, v) in vecs {
+                if !v.iter().all(|x| x.is_finite()) {
+                    return bad(format!("{what} {v:?} is not finite"));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn retain_keeps_columns_aligned() {
+        let mut p = Particles::default();
+        for k in 0..5 {
+            p.push_sphere(Vec3::new(k as f64, 0.0, 0.0), 1.0 + k as f64, 1.0);
+        }
+        p.retain(|i| i % 2 == 0);
+        assert_eq!(p.len(), 3);
+        assert_eq!(p.radius, vec![1.0, 3.0, 5.0]);
+        assert_eq!(p.pos[2].x, 4.0);
+        assert!((p.mass[1] - sphere_mass(1.0, 3.0)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn validate_rejects_bad_particles() {
+        let mut p = Particles::default();
+        p.push_sphere(Vec3::zeros(), 1.0, 1.0);
+        assert!(p.validate().is_ok());
+        p.radius[0] = -1.0;
+        assert!(matches!(p.validate(), Err(DemError::InvalidParticle { index: 0, .. })));
+        p.radius[0] = 1.0;
+        p.vel[0].y = f64::NAN;
+        assert!(p.validate().unwrap_err().to_string().contains("velocity"));
+    }
+}
