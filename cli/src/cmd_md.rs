@@ -1,0 +1,301 @@
+//! `cgdem md ...`, `cgdem md-worker`, `cgdem bench-md`: the MD stage. Jobs run in a child process
+//! (this same binary, `md-worker`), optionally under the venv's `mpirun`, and are cached on disk.
+
+use anyhow::{bail, Context, Result};
+use clap::{Args, Subcommand};
+use md_bridge::card::{compare_with_table5, Material, MaterialCard, Provenance};
+use md_bridge::job::{run_job, Job, JobOutput, JobRecord, RunOptions};
+use md_bridge::silica::{SilicaConfig, SilicaResult};
+use md_bridge::Venv;
+use std::path::{Path, PathBuf};
+
+#[derive(Debug, Args)]
+pub struct MdArgs {
+    #[command(subcommand)]
+    what: MdWhat,
+}
+
+#[derive(Debug, Args)]
+pub struct Launch {
+    /// MPI ranks (runs the worker under the venv's mpirun when > 1).
+    #[arg(long, default_value_t = 1)]
+    np: u32,
+    /// Job cache directory [default: <repo>/runs/md-cache].
+    #[arg(long)]
+    cache: Option<PathBuf>,
+    /// Re-run even when an identical request is cached.
+    #[arg(long)]
+    no_cache: bool,
+}
+
+#[derive(Debug, Subcommand)]
+enum MdWhat {
+    /// Amorphous silica (Vashishta 1990): melt-quench, properties, material card.
+    Silica {
+        /// TOML with [`SilicaConfig`] fields; missing fields take the defaults.
+        #[arg(long)]
+        config: Option<PathBuf>,
+        /// Output directory (card.toml, silica.json).
+        #[arg(long)]
+        out: PathBuf,
+        #[command(flatten)]
+        launch: Launch,
+    },
+    /// Runs a LAMMPS input file in a worker and prints the listed equal-style variables as JSON.
+    Script {
+        input: PathBuf,
+        /// Variables to read after the run (comma separated).
+        #[arg(long, value_delimiter = ',')]
+        read: Vec<String>,
+        #[command(flatten)]
+        launch: Launch,
+    },
+    /// Starts a worker that aborts on purpose: shows that a dying MD job leaves the workbench alive.
+    #[command(hide = true)]
+    AbortSelfTest {
+        #[command(flatten)]
+        launch: Launch,
+    },
+}
+
+#[derive(Debug, Args)]
+pub struct WorkerArgs {
+    job: PathBuf,
+    report: PathBuf,
+}
+
+#[derive(Debug, Args)]
+pub struct BenchMdArgs {
+    /// fcc cells per side of the Lennard-Jones benchmark (4 atoms each).
+    #[arg(long, default_value_t = 20)]
+    cells: u32,
+    #[arg(long, default_value_t = 1000)]
+    steps: u32,
+    /// Runs per side; the best of each is compared.
+    #[arg(long, default_value_t = 3)]
+    repeats: usize,
+    /// Use this LAMMPS input instead of the Lennard-Jones melt.
+    #[arg(long)]
+    input: Option<PathBuf>,
+}
+
+fn options(l: &Launch) -> Result<RunOptions> {
+    Ok(RunOptions {
+        exe: std::env::current_exe().context("cannot locate the cgdem executable")?,
+        np: l.np,
+        cache_dir: l
+            .cache
+            .clone()
+            .unwrap_or_else(|| md_bridge::venv::repo_root().join("runs/md-cache")),
+        venv: Venv::locate(),
+        reuse_cache: !l.no_cache,
+    })
+}
+
+fn launch(job: &Job, l: &Launch) -> Result<JobRecord> {
+    let (record, cached) = run_job(job, &options(l)?)?;
+    let p = &record.provenance;
+    eprintln!(
+        "{} job {} ({} rank(s), {:.1} s)",
+        if cached { "cached" } else { "ran" },
+        &p.input_hash[..12],
+        p.mpi_ranks,
+        p.wall_seconds
+    );
+    Ok(record)
+}
+
+pub fn run(a: MdArgs) -> Result<()> {
+    match a.what {
+        MdWhat::Silica {
+            config,
+            out,
+            launch: l,
+        } => silica(config.as_deref(), &out, &l),
+        MdWhat::Script {
+            input,
+            read,
+            launch: l,
+        } => {
+            let commands = std::fs::read_to_string(&input)
+                .with_context(|| format!("reading {}", input.display()))?;
+            let rec = launch(
+                &Job::Script {
+                    commands,
+                    read_variables: read,
+                    seed: 0,
+                },
+                &l,
+            )?;
+            match rec.output {
+                JobOutput::Script { variables } => {
+                    println!("{}", serde_json::to_string_pretty(&variables)?)
+                }
+                other => bail!("unexpected output {other:?}"),
+            }
+            Ok(())
+        }
+        MdWhat::AbortSelfTest { launch: l } => {
+            launch(&Job::AbortSelfTest, &l)?;
+            bail!("the abort self-test worker did not abort")
+        }
+    }
+}
+
+fn silica(config: Option<&Path>, out: &Path, l: &Launch) -> Result<()> {
+    let cfg: SilicaConfig = match config {
+        Some(p) => {
+            let text =
+                std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
+            toml::from_str(&text)
+                .with_context(|| format!("parsing silica config {}", p.display()))?
+        }
+        None => SilicaConfig::default(),
+    };
+    cfg.validate()?;
+    let rec = launch(&Job::Silica(cfg.clone()), l)?;
+    let JobOutput::Silica(res) = &rec.output else {
+        bail!("unexpected output {:?}", rec.output)
+    };
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    std::fs::write(out.join("silica.json"), serde_json::to_string_pretty(&rec)?)?;
+    print_summary(res);
+    match card(res, &rec, &cfg) {
+        Some(card) => {
+            card.write(&out.join("card.toml"))?;
+            println!("\n{}", compare_with_table5(&card.material));
+            println!("card written to {}", out.join("card.toml").display());
+        }
+        None => println!("strength or surface measurement disabled: no card written"),
+    }
+    Ok(())
+}
+
+fn print_summary(r: &SilicaResult) {
+    println!(
+        "atoms {}  density {:.0} kg/m3 (0 K: {:.0})",
+        r.n_atoms, r.density, r.density_0k
+    );
+    println!(
+        "C11 {:.1} GPa  C12 {:.1} GPa  C44 {:.1} GPa  ->  E {:.1} GPa  nu {:.3}",
+        r.c11 / 1e9,
+        r.c12 / 1e9,
+        r.c44 / 1e9,
+        r.young_modulus / 1e9,
+        r.poisson_ratio
+    );
+    for (name, s) in [("tension", &r.tension), ("shear", &r.shear)] {
+        if let Some(s) = s {
+            println!(
+                "{name}: peak {:.2} GPa at strain {:.3}{}",
+                s.peak_stress / 1e9,
+                s.peak_strain,
+                if s.peak_reached {
+                    ""
+                } else {
+                    " (NOT past the peak: raise the max strain)"
+                }
+            );
+        }
+    }
+    if let (Some(g0), Some(g)) = (r.surface_energy_unrelaxed, r.surface_energy) {
+        println!("surface energy {g:.3} J/m2 (cleaved + minimised only: {g0:.3})");
+    }
+    let t: Vec<String> = r
+        .timings
+        .iter()
+        .map(|(n, s)| format!("{n} {s:.0}s"))
+        .collect();
+    println!("timings: {}", t.join(", "));
+}
+
+/// The card needs every property; None when a measurement was switched off.
+fn card(r: &SilicaResult, rec: &JobRecord, cfg: &SilicaConfig) -> Option<MaterialCard> {
+    let p = &rec.provenance;
+    Some(MaterialCard {
+        material: Material {
+            name: "amorphous silica (LAMMPS SiO.1990.vashishta)".into(),
+            young_modulus: r.young_modulus,
+            poisson_ratio: r.poisson_ratio,
+            tensile_strength: r.tension.as_ref()?.peak_stress,
+            shear_strength: r.shear.as_ref()?.peak_stress,
+            surface_energy: r.surface_energy?,
+            restitution: 0.9,
+            density: r.density,
+        },
+        provenance: Provenance {
+            source: "cgdem md silica (md-bridge, LAMMPS via PyO3, worker process)".into(),
+            lammps_version: p.lammps_version.clone(),
+            potential: p.potential.clone().unwrap_or_default(),
+            potential_sha256: p.potential_sha256.clone().unwrap_or_default(),
+            input_hash: p.input_hash.clone(),
+            seed: p.seed,
+            mpi_ranks: p.mpi_ranks,
+            cgdem_version: p.cgdem_version.clone(),
+            notes: vec![
+                "restitution = 0.9 is not measured: taken from paper 000 Table 5 (chosen arbitrarily there)".into(),
+                format!(
+                    "{} atoms; melt {} K, quench {} K/ps to {} K; density averaged over the anneal",
+                    r.n_atoms, cfg.melt_temperature, cfg.quench_rate, cfg.quench_end_temperature
+                ),
+                format!(
+                    "E, nu: Voigt average of C11 {:.1}, C12 {:.1}, C44 {:.1} GPa at 0 K, relaxed ions",
+                    r.c11 / 1e9,
+                    r.c12 / 1e9,
+                    r.c44 / 1e9
+                ),
+                format!(
+                    "strengths: peak stress at {} K, strain rate {}/ps; tension lateral stress-free, simple shear xy",
+                    cfg.strength_temperature, cfg.strain_rate
+                ),
+                format!(
+                    "surface energy: cleaved along z, annealed {} ps at {} K, minimised",
+                    cfg.surface_anneal_ps, cfg.surface_anneal_temperature
+                ),
+            ],
+        },
+    })
+}
+
+pub fn worker(a: WorkerArgs) -> Result<()> {
+    md_bridge::worker::worker_main(&a.job, &a.report)?;
+    Ok(())
+}
+
+pub fn bench(a: BenchMdArgs) -> Result<()> {
+    let venv = Venv::locate();
+    venv.check()?;
+    let dir = std::env::temp_dir().join(format!("cgdem-bench-md-{}", std::process::id()));
+    std::fs::create_dir_all(&dir)?;
+    let input = match &a.input {
+        Some(p) => p.clone(),
+        None => {
+            let p = dir.join("in.lj");
+            std::fs::write(&p, md_bridge::bench::lj_input(a.cells, a.steps))?;
+            p
+        }
+    };
+    let r = md_bridge::bench::bench_overhead(&venv, &input, a.repeats)?;
+    let _ = std::fs::remove_dir_all(&dir);
+    let fmt = |v: &[f64]| {
+        v.iter()
+            .map(|s| format!("{s:.3}"))
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    println!(
+        "input: {}",
+        a.input.as_ref().map_or(
+            format!("LJ melt, {} atoms, {} steps", 4 * a.cells.pow(3), a.steps),
+            |p| p.display().to_string()
+        )
+    );
+    println!("bridge (s): {}", fmt(&r.bridge_seconds));
+    println!("lmp    (s): {}", fmt(&r.lmp_seconds));
+    println!(
+        "ratio bridge/lmp (best of each): {:.4} ({:+.2} %)",
+        r.ratio,
+        (r.ratio - 1.0) * 100.0
+    );
+    Ok(())
+}
