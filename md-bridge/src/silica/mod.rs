@@ -206,6 +206,7 @@ pub fn run(lmp: &Lammps, potential: &Path, cfg: &SilicaConfig) -> Result<SilicaR
     let mut timings = Vec::new();
     let mut t = Instant::now();
     let mut lap = |name: &str, timings: &mut Vec<(String, f64)>| {
+        tracing::info!("silica: {name} done in {:.1} s", t.elapsed().as_secs_f64());
         timings.push((name.to_owned(), t.elapsed().as_secs_f64()));
         t = Instant::now();
     };

