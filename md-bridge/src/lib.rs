@@ -19,6 +19,7 @@ pub mod doctor;
 pub mod error;
 pub mod job;
 pub mod lammps;
+pub mod outcome;
 mod python;
 pub mod silica;
 pub mod venv;
