@@ -22,6 +22,7 @@ pub mod io;
 pub mod material;
 pub mod neighbor;
 pub mod sample;
+pub mod scenario;
 pub mod sim;
 pub mod state;
 pub mod units;

@@ -49,6 +49,17 @@ pub fn hcp_lattice(nx: usize, ny: usize, nz: usize, d: f64, rho: f64, periodic: 
     Ok((p, bx))
 }
 
+/// Lattice counts (nx, ny, nz) whose periodic HCP box is closest to `lengths` for diameter `d`: rows
+/// and layers rounded to even numbers (at least 2), cells to at least 1.
+pub fn counts_for(lengths: Vec3, d: f64) -> Result<(usize, usize, usize)> {
+    if !(d.is_finite() && d > 0.0 && lengths.iter().all(|l| l.is_finite() && *l > 0.0)) {
+        return Err(DemError::InvalidConfig(format!("HCP block {lengths:?} of diameter {d} must be positive")));
+    }
+    let even = |x: f64| (2.0 * (0.5 * x).round()).max(2.0) as usize;
+    let nx = (lengths.x / d).round().max(1.0) as usize;
+    Ok((nx, even(lengths.y / (d * 3f64.sqrt() / 2.0)), even(lengths.z / (d * (2.0f64 / 3.0).sqrt()))))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -74,5 +85,12 @@ mod tests {
             assert_eq!(touching, 12, "particle {i}");
             assert!((next - 2f64.sqrt()).abs() < 1e-9, "second shell at sqrt 2: {next}");
         }
+    }
+
+    #[test]
+    fn counts_for_the_papers_slab() {
+        // L = 25 d0, W = 3 d0 (paper 000 section 3.1): 25 cells, 28 rows, 4 layers.
+        assert_eq!(counts_for(Vec3::new(25.0, 25.0, 3.0), 1.0).unwrap(), (25, 28, 4));
+        assert!(counts_for(Vec3::new(1.0, -1.0, 1.0), 1.0).is_err());
     }
 }

@@ -1,0 +1,258 @@
+//! The two-phase relaxation of paper 000 section 3.2, turning a random insertion into an amorphous solid.
+//!
+//! 1. Repulsive normal forces only (no cohesion, no tangential force), global damping c = c_c (eq 21),
+//!    3000 steps of dt = 0.1 dt_c in the fixed periodic box: overlaps are pushed apart.
+//! 2. Cohesive normal forces switched on, still no tangential force ("to avoid the formation of stable
+//!    holes"), damping 0.02 c_c, and the periodic box moving under [`BoxControl::Stress`] towards zero
+//!    mean stress, until every component of the virial stress is below `stress_tolerance` E.
+//! 3. Masses rescaled so that the bulk density (total mass over box volume) is the target density.
+//!
+//! What f64 reaches: the paper asks for 1e-14 E. The diagonal stresses are sums of pair forces over
+//! positions of order L known to ~1e-16 L; measured here (L = 20 d0, 1627 particles), they settle at
+//! ~5e-16 E, so 1e-14 E is reachable: 22 100 phase-2 steps (16 500 for 1e-12 E), close to the paper's
+//! "around 20 000".
+//!
+//! Decision: the off-diagonal stresses cannot be relaxed by an orthogonal box (the engine has no
+//! triclinic box); they freeze at a residual of ~1e-4..1e-3 E in small samples (7.8e-4 E measured at
+//! L = 20 d0, 200 000 steps), a random residual shear of the packing. So the criterion covers the
+//! diagonal components by default (`shear_in_criterion = false`) and the report gives the full tensor.
+
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+
+use super::stats::{coordination, Coordination};
+use super::Sample;
+use crate::domain::BoxControl;
+use crate::error::{DemError, Result};
+use crate::material::{Interactions, PairModel};
+use crate::sim::{Parallelism, RunConfig, Simulation, TimeStep};
+use crate::Vec3;
+
+/// Settings of the relaxation; every default is the paper's value unless said otherwise.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RelaxConfig {
+    /// Steps of phase 1; default 3000 (paper 000 section 3.2).
+    pub phase1_steps: u64,
+    /// Global damping of phase 1 as a fraction of c_c; default 1 (critical, paper).
+    pub phase1_damping: f64,
+    /// Global damping of phase 2 as a fraction of c_c; default 0.02 (paper).
+    pub phase2_damping: f64,
+    /// Time step as a fraction of dt_c; default 0.1 (paper).
+    pub time_step_fraction: f64,
+    /// Stop phase 2 when every (diagonal) stress component is below this times E; default 1e-14, the
+    /// paper's value, which f64 reaches (see the module docs).
+    pub stress_tolerance: f64,
+    /// Include the off-diagonal components in the criterion; default false (they cannot relax in an
+    /// orthogonal box, see the module docs).
+    pub shear_in_criterion: bool,
+    /// Give up phase 2 after this many steps (the report says it did not converge); default 200 000, ten
+    /// times the paper's typical 20 000.
+    pub phase2_max_steps: u64,
+    /// Check the criterion (and log progress) every this many steps; default 100.
+    pub check_every: u64,
+    /// Box controller gain: strain step = gain sigma / E; default 0.05, well inside the stable range
+    /// (gain C11 / E < 2) while following the particles' own relaxation.
+    pub box_gain: f64,
+    /// Largest box strain per step; default 1e-4, so that early large stresses do not shake the packing.
+    pub max_strain_step: f64,
+    /// Target bulk density after relaxation; default `None`: the material density.
+    pub target_density: Option<f64>,
+    /// Tolerance (fraction of r_i + r_j) for counting contacts in the report; default 1e-3.
+    pub contact_tolerance: f64,
+}
+
+impl Default for RelaxConfig {
+    fn default() -> Self {
+        RelaxConfig {
+            phase1_steps: 3000,
+            phase1_damping: 1.0,
+            phase2_damping: 0.02,
+            time_step_fraction: 0.1,
+            stress_tolerance: 1e-14,
+            shear_in_criterion: false,
+            phase2_max_steps: 200_000,
+            check_every: 100,
+            box_gain: 0.05,
+            max_strain_step: 1e-4,
+            target_density: None,
+            contact_tolerance: 1e-3,
+        }
+    }
+}
+
+/// What the relaxation did and what it produced.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RelaxReport {
+    pub particles: usize,
+    pub phase1_steps: u64,
+    pub phase2_steps: u64,
+    /// Whether the stress criterion was met within `phase2_max_steps`.
+    pub converged: bool,
+    /// Largest |sigma_ab| / E at the end (over the components of the criterion).
+    pub max_stress_over_e: f64,
+    /// Final virial stress, row-major.
+    pub stress: [f64; 9],
+    /// Volume fraction after insertion and after relaxation.
+    pub volume_fraction_inserted: f64,
+    pub volume_fraction: f64,
+    /// Final box edge lengths.
+    pub lengths: Vec3,
+    /// Coordination of the relaxed sample (full cohesive ranges).
+    pub coordination: Coordination,
+    /// Mass factor applied to reach the target density.
+    pub mass_factor: f64,
+    /// Wall-clock seconds.
+    pub wall_seconds: f64,
+}
+
+impl RelaxConfig {
+    fn validate(&self) -> Result<()> {
+        let pos = [
+            ("phase2_damping", self.phase2_damping),
+            ("time_step_fraction", self.time_step_fraction),
+            ("stress_tolerance", self.stress_tolerance),
+            ("box_gain", self.box_gain),
+            ("max_strain_step", self.max_strain_step),
+        ];
+        for (n, v) in pos {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(DemError::InvalidConfig(format!("relaxation {n} = {v} must be positive")));
+            }
+        }
+        if !(self.phase1_damping.is_finite() && self.phase1_damping >= 0.0) || self.check_every == 0 {
+            return Err(DemError::InvalidConfig("relaxation phase1_damping >= 0 and check_every >= 1".into()));
+        }
+        if self.target_density.is_some_and(|r| !(r.is_finite() && r > 0.0)) {
+            return Err(DemError::InvalidConfig("relaxation target_density must be positive".into()));
+        }
+        Ok(())
+    }
+}
+
+/// Relaxes a (fully periodic) sample with the two phases of the module docs, using `model` (its material,
+/// law and calibration multipliers; the interaction switches are set per phase). Returns the relaxed
+/// sample, at rest, wrapped into its box, with the report attached.
+pub fn relax(sample: &Sample, model: &PairModel, cfg: &RelaxConfig, par: Parallelism) -> Result<Sample> {
+    cfg.validate()?;
+    if sample.sim_box.periodic != [true; 3] {
+        return Err(DemError::InvalidBox("relaxation needs a box periodic on every axis".into()));
+    }
+    let t0 = Instant::now();
+    let e = model.material.young_modulus;
+    let mut m1 = model.clone();
+    m1.interactions = Interactions::REPULSIVE;
+    let run = |damping| RunConfig {
+        time_step: TimeStep::FractionOfCritical(cfg.time_step_fraction),
+        global_damping: damping,
+        ..RunConfig::default()
+    };
+    let mut p = sample.particles.clone();
+    p.vel.iter_mut().for_each(|v| *v = Vec3::zeros());
+    p.omega.iter_mut().for_each(|v| *v = Vec3::zeros());
+    let mut sim = Simulation::new(p, sample.sim_box, m1, vec![], run(cfg.phase1_damping), par)?;
+    let n = sim.particles.len();
+    tracing::info!(
+        particles = n,
+        steps = cfg.phase1_steps,
+        "relaxation phase 1: repulsion, c = {} c_c",
+        cfg.phase1_damping
+    );
+    sim.run(cfg.phase1_steps)?;
+
+    let mut m2 = model.clone();
+    m2.interactions = Interactions::NORMAL;
+    sim.set_model(m2)?;
+    sim.set_config(run(cfg.phase2_damping))?;
+    sim.set_box_control(BoxControl::Stress {
+        target: Vec3::zeros(),
+        axes: [true; 3],
+        modulus: e,
+        gain: cfg.box_gain,
+        max_strain_step: cfg.max_strain_step,
+    })?;
+    let max_stress = |s: &nalgebra::Matrix3<f64>| -> f64 {
+        let mut m = 0.0f64;
+        for a in 0..3 {
+            for b in 0..3 {
+                if a == b || cfg.shear_in_criterion {
+                    m = m.max(s[(a, b)].abs());
+                }
+            }
+        }
+        m / e
+    };
+    let mut steps2 = 0;
+    let mut converged = false;
+    let mut worst = f64::INFINITY;
+    while steps2 < cfg.phase2_max_steps {
+        let k = cfg.check_every.min(cfg.phase2_max_steps - steps2);
+        sim.run(k)?;
+        steps2 += k;
+        worst = max_stress(&sim.virial_stress(None, None));
+        if steps2 % (50 * cfg.check_every) == 0 {
+            tracing::info!(step = steps2, max_stress_over_e = worst, "relaxation phase 2");
+        }
+        if worst < cfg.stress_tolerance {
+            converged = true;
+            break;
+        }
+    }
+    if !converged {
+        tracing::warn!(steps = steps2, max_stress_over_e = worst, "relaxation phase 2 did not reach the tolerance");
+    }
+    let stress = sim.virial_stress(None, None);
+    let mut out = sample.clone();
+    out.sim_box = sim.sim_box;
+    out.particles = sim.particles.clone();
+    let bx = out.sim_box;
+    for x in out.particles.pos.iter_mut() {
+        bx.wrap(x);
+    }
+    out.particles.vel.iter_mut().for_each(|v| *v = Vec3::zeros());
+    out.particles.omega.iter_mut().for_each(|v| *v = Vec3::zeros());
+    let rho = cfg.target_density.unwrap_or(model.material.density);
+    let mass: f64 = out.particles.mass.iter().sum();
+    let mass_factor = rho * bx.volume() / mass;
+    out.particles.scale_masses(mass_factor);
+    let mut full = model.clone();
+    full.interactions = Interactions::FULL;
+    let coord = coordination(&out.particles, &bx, &full, cfg.contact_tolerance)?;
+    let report = RelaxReport {
+        particles: n,
+        phase1_steps: cfg.phase1_steps,
+        phase2_steps: steps2,
+        converged,
+        max_stress_over_e: worst,
+        stress: std::array::from_fn(|k| stress[(k / 3, k % 3)]),
+        volume_fraction_inserted: sample.volume_fraction(),
+        volume_fraction: out.volume_fraction(),
+        lengths: bx.lengths(),
+        coordination: coord,
+        mass_factor,
+        wall_seconds: t0.elapsed().as_secs_f64(),
+    };
+    tracing::info!(
+        steps = steps2,
+        converged,
+        volume_fraction = report.volume_fraction,
+        coordination = coord.interacting,
+        seconds = report.wall_seconds,
+        "relaxed"
+    );
+    out.kind = "relaxed".into();
+    out.relaxation = Some(report);
+    Ok(out)
+}
+
+/// Random insertion followed by the two-phase relaxation: an amorphous sample in one call.
+pub fn amorphous(
+    insertion: &super::insert::InsertionConfig,
+    model: &PairModel,
+    cfg: &RelaxConfig,
+    par: Parallelism,
+) -> Result<Sample> {
+    let raw = super::insert::random_insertion(insertion)?;
+    relax(&raw, model, cfg, par)
+}

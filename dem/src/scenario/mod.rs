@@ -1,0 +1,7 @@
+//! Scenarios: complete numerical experiments built on the engine. Each is a function with a typed serde
+//! configuration (defaults are the papers' values) and a typed result, deterministic for a given sample
+//! and model, returning errors rather than panicking.
+//! - [`patch`]: the patch tests of paper 000 section 3 (elastic constants, tensile and shear strength,
+//!   fracture energy), the inner loop of the calibration.
+
+pub mod patch;

@@ -1,0 +1,266 @@
+//! Strength patch tests (paper 000 section 3, Fig. 4b-c) and the fracture energy.
+//!
+//! The top wall moves at a constant velocity L0 * rate / dt (rate = 1e-5 per step in the paper) along
+//! y (tension) or x (shear, at constant wall separation), the bottom wall is fixed, dt = 0.1 dt_c,
+//! global damping 0.01 c_c. The virial stress of the deformable part is recorded every `record_every`
+//! steps; the strength is its peak (sigma_yy or sigma_xy).
+//!
+//! Fracture energy (tension only): the run continues until the sample has separated (the stress stays
+//! below `stop_below` of the peak for `stop_records` records). Two numbers are reported:
+//! - `work_per_area`: the work done by the wall, sum of -F_wall,y v dt over the run, per unit
+//!   cross-section. It includes the elastic energy stored at the peak and then dissipated by damping,
+//!   about sigma_peak^2 L0 / (2 E) per area, so it grows with the sample height;
+//! - `surface_energy`: half the increase of the pair potential energy per unit area between the start
+//!   and the separated state (two surfaces are created), the measured counterpart of gamma.
+
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+
+use super::rig::Rig;
+use super::{target_strength, Curve, CurvePoint, WallConfig};
+use crate::error::{DemError, Result};
+use crate::material::PairModel;
+use crate::sample::Sample;
+use crate::sim::{Parallelism, RunConfig, TimeStep};
+use crate::walls::RigidMotion;
+use crate::Vec3;
+
+/// Which strength.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StrengthMode {
+    /// Top wall pulled along y; peak sigma_yy.
+    Tensile,
+    /// Top wall moved along x; peak sigma_xy.
+    Shear,
+}
+
+/// Settings of a strength test.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StrengthConfig {
+    /// Tensile or shear.
+    pub mode: StrengthMode,
+    /// Strain per time step; default 1e-5 (paper: 1e-5 / dt).
+    #[serde(default = "d_rate")]
+    pub strain_rate: f64,
+    /// Global damping as a fraction of c_c; default 0.01 (paper).
+    #[serde(default = "d_damping")]
+    pub damping: f64,
+    /// Time step as a fraction of dt_c; default 0.1 (paper).
+    #[serde(default = "d_dt")]
+    pub time_step_fraction: f64,
+    /// Steps between curve points; default 100 (strain resolution 1e-3, a 1 % peak resolution).
+    #[serde(default = "d_record")]
+    pub record_every: u64,
+    /// After the peak, stop when the stress stays below this fraction of the peak; default 0.01
+    /// (separated, for the fracture energy).
+    #[serde(default = "d_stop")]
+    pub stop_below: f64,
+    /// ... for this many successive records; default 10 (a few oscillations of the broken halves).
+    #[serde(default = "d_stop_records")]
+    pub stop_records: u32,
+    /// Or stop this much strain after the peak; default 0.1 (shear keeps some residual strength).
+    #[serde(default = "d_post")]
+    pub post_peak_strain: f64,
+    /// Hard limit on the strain; default 1.
+    #[serde(default = "d_max")]
+    pub max_strain: f64,
+    /// Walls.
+    #[serde(default)]
+    pub walls: WallConfig,
+}
+
+fn d_rate() -> f64 {
+    1e-5
+}
+fn d_damping() -> f64 {
+    0.01
+}
+fn d_dt() -> f64 {
+    0.1
+}
+fn d_record() -> u64 {
+    100
+}
+fn d_stop() -> f64 {
+    0.01
+}
+fn d_stop_records() -> u32 {
+    10
+}
+fn d_post() -> f64 {
+    0.1
+}
+fn d_max() -> f64 {
+    1.0
+}
+
+impl StrengthConfig {
+    /// The paper's settings for `mode`; tension runs up to 0.3 strain past the peak so that amorphous
+    /// samples, whose bonds re-form behind the crack, separate completely.
+    pub fn paper(mode: StrengthMode) -> Self {
+        let post_peak_strain = if mode == StrengthMode::Tensile { 0.3 } else { d_post() };
+        StrengthConfig {
+            mode,
+            strain_rate: d_rate(),
+            damping: d_damping(),
+            time_step_fraction: d_dt(),
+            record_every: d_record(),
+            stop_below: d_stop(),
+            stop_records: d_stop_records(),
+            post_peak_strain,
+            max_strain: d_max(),
+            walls: WallConfig::default(),
+        }
+    }
+
+    fn validate(&self) -> Result<()> {
+        for (n, v) in [
+            ("strain_rate", self.strain_rate),
+            ("time_step_fraction", self.time_step_fraction),
+            ("post_peak_strain", self.post_peak_strain),
+            ("max_strain", self.max_strain),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(DemError::InvalidConfig(format!("strength {n} = {v} must be positive")));
+            }
+        }
+        if !(self.damping.is_finite() && self.damping >= 0.0 && self.stop_below.is_finite()) || self.record_every == 0 {
+            return Err(DemError::InvalidConfig("strength damping >= 0 and record_every >= 1".into()));
+        }
+        Ok(())
+    }
+}
+
+/// Fracture energy of a tensile test.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct FractureResult {
+    /// Whether the stress fell below `stop_below` of the peak (complete separation).
+    pub separated: bool,
+    /// Work done by the wall per unit cross-section.
+    pub work_per_area: f64,
+    /// Half the pair-potential increase per unit cross-section (measured gamma).
+    pub surface_energy: f64,
+    /// Target surface energy gamma of the material.
+    pub target_surface_energy: f64,
+}
+
+/// What a strength test measured.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StrengthResult {
+    pub mode: StrengthMode,
+    /// Peak virial stress of the deformable part.
+    pub strength: f64,
+    pub strain_at_peak: f64,
+    /// Target strength of eq (20) at the sample's d0 (sigma_N or sigma_T).
+    pub target_strength: f64,
+    /// strength / target.
+    pub ratio: f64,
+    pub steps: u64,
+    pub particles: usize,
+    pub fracture: Option<FractureResult>,
+    pub wall_seconds: f64,
+    /// The recorded curve.
+    #[serde(skip)]
+    pub curve: Curve,
+}
+
+/// Runs a strength test on `sample` with `model` (including its calibration multipliers).
+pub fn strength(sample: &Sample, model: &PairModel, cfg: &StrengthConfig, par: Parallelism) -> Result<StrengthResult> {
+    cfg.validate()?;
+    let t0 = Instant::now();
+    let tensile = cfg.mode == StrengthMode::Tensile;
+    let run = RunConfig {
+        time_step: TimeStep::FractionOfCritical(cfg.time_step_fraction),
+        global_damping: cfg.damping,
+        track_energy: tensile,
+        ..RunConfig::default()
+    };
+    let mut rig = Rig::new(sample, model, &cfg.walls, run, par)?;
+    rig.sim.step()?;
+    let u0 = rig.sim.energy().normal + rig.sim.energy().tangential;
+    rig.sim.set_config(RunConfig { track_energy: false, ..run })?;
+    let dt = rig.sim.dt();
+    let speed = cfg.strain_rate * rig.l0 / dt;
+    let v = if tensile { Vec3::new(0.0, speed, 0.0) } else { Vec3::new(speed, 0.0, 0.0) };
+    rig.set_top(RigidMotion::with_velocity(v));
+    let component = if tensile { (1, 1) } else { (0, 1) };
+    let mut curve = Curve::default();
+    let (mut peak, mut peak_strain, mut low) = (f64::NEG_INFINITY, 0.0, 0u32);
+    let mut work = 0.0;
+    let mut steps = 1u64;
+    let mut separated = false;
+    let every = 5000 * cfg.record_every.div_ceil(100).max(1);
+    loop {
+        for k in 0..cfg.record_every {
+            if k + 1 == cfg.record_every {
+                rig.sim.request_virial();
+            }
+            rig.sim.step()?;
+            // Work of the constraint force (minus the pair force on the wall) over this step.
+            work -= rig.top_traction().dot(&v) * rig.area * dt;
+        }
+        steps += cfg.record_every;
+        let s = rig.stress();
+        let (exy, eyy) = rig.strains();
+        let tr = rig.top_traction();
+        let strain = if tensile { eyy } else { exy };
+        let value = s[component];
+        curve.points.push(CurvePoint {
+            step: steps,
+            strain_xy: exy,
+            strain_yy: eyy,
+            stress: CurvePoint::components(&s),
+            wall_traction_y: tr.y,
+            wall_traction_x: tr.x,
+        });
+        if value > peak {
+            peak = value;
+            peak_strain = strain;
+        }
+        if steps % every < cfg.record_every {
+            tracing::info!(mode = ?cfg.mode, step = steps, strain, stress = value, peak, "strength test");
+        }
+        let past_peak = strain > peak_strain && peak > 0.0;
+        low = if past_peak && value.abs() < cfg.stop_below * peak { low + 1 } else { 0 };
+        if low >= cfg.stop_records {
+            separated = true;
+            break;
+        }
+        if (past_peak && strain - peak_strain > cfg.post_peak_strain) || strain > cfg.max_strain {
+            break;
+        }
+    }
+    let fracture = if tensile {
+        rig.sim.set_config(run)?;
+        rig.sim.step()?;
+        let u1 = rig.sim.energy().normal + rig.sim.energy().tangential;
+        Some(FractureResult {
+            separated,
+            work_per_area: work / rig.area,
+            surface_energy: 0.5 * (u1 - u0) / rig.area,
+            target_surface_energy: model.material.surface_energy,
+        })
+    } else {
+        None
+    };
+    let m = &model.material;
+    let base = if tensile { m.tensile_strength } else { m.shear_strength };
+    let target = target_strength(base, sample.d0, m.critical_diameter(), m.scaling);
+    let res = StrengthResult {
+        mode: cfg.mode,
+        strength: peak,
+        strain_at_peak: peak_strain,
+        target_strength: target,
+        ratio: peak / target,
+        steps,
+        particles: rig.sim.particles.len(),
+        fracture,
+        wall_seconds: t0.elapsed().as_secs_f64(),
+        curve,
+    };
+    tracing::info!(mode = ?cfg.mode, strength = peak, ratio = res.ratio, steps, seconds = res.wall_seconds, "strength test");
+    Ok(res)
+}

@@ -1,0 +1,263 @@
+//! A patch-test campaign in one typed configuration: which sample (HCP, amorphous or a saved file), which
+//! tests, and an optional sweep over d0, nu and s, as in paper 000 Figs. 5-8 and A.4-A.9. The CLI's
+//! `cgdem patch <config.toml>` is a thin shell around [`run_suite`].
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use super::{elastic, strength, ElasticConfig, ElasticResult, StrengthConfig, StrengthMode, StrengthResult};
+use crate::error::{DemError, Result};
+use crate::io::checkpoint::write_atomic;
+use crate::material::{Material, PairModel, ParamScale};
+use crate::sample::insert::InsertionConfig;
+use crate::sample::stats::{coordination, Coordination};
+use crate::sample::{amorphous, RelaxConfig, Sample, SizeDistribution};
+use crate::sim::Parallelism;
+use crate::Vec3;
+
+/// Which sample the tests run on; sizes in units of d0 (and d0 in units of d_c, eq 18).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", tag = "kind", deny_unknown_fields)]
+pub enum SampleSpec {
+    /// HCP lattice of L x L x W (paper 000 section 3.1: L = 25 d0, W = 3 d0).
+    Hcp { d0_over_dc: f64, l_over_d0: f64, w_over_d0: f64 },
+    /// Relaxed amorphous sample (section 3.2: L = 100 d0, W = 3 d0, d in [0.75, 1.25] d0). `dl_over_l`
+    /// fixes the largest diameter to a fraction of L instead (section 3.3 / A.4: 0.05).
+    Amorphous {
+        d0_over_dc: f64,
+        l_over_d0: f64,
+        w_over_d0: f64,
+        #[serde(default = "d_ds")]
+        ds_over_d0: f64,
+        #[serde(default = "d_dl")]
+        dl_over_d0: f64,
+        #[serde(default)]
+        dl_over_l: Option<f64>,
+        #[serde(default = "d_seed")]
+        seed: u64,
+    },
+    /// A sample saved by `cgdem sample` or [`Sample::save`].
+    File { path: PathBuf },
+}
+
+fn d_ds() -> f64 {
+    0.75
+}
+fn d_dl() -> f64 {
+    1.25
+}
+fn d_seed() -> u64 {
+    1
+}
+
+/// The patch tests.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PatchKind {
+    Elastic,
+    Tensile,
+    Shear,
+}
+
+/// Values swept over (empty: the base value only).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Sweep {
+    pub d0_over_dc: Vec<f64>,
+    pub poisson_ratio: Vec<f64>,
+    pub scaling: Vec<f64>,
+}
+
+/// A campaign of patch tests.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PatchSuite {
+    /// Target material; default Table 4 with nu = 0.15, s = 0 (paper 000 section 3).
+    #[serde(default = "d_material")]
+    pub material: Material,
+    /// Calibration multipliers; default all 1 (the closed-form parameters, eqs 7-13).
+    #[serde(default)]
+    pub scale: ParamScale,
+    pub sample: SampleSpec,
+    /// Relaxation of amorphous samples; default the paper's (section 3.2).
+    #[serde(default)]
+    pub relax: RelaxConfig,
+    /// Tests to run; default all three.
+    #[serde(default = "d_tests")]
+    pub tests: Vec<PatchKind>,
+    /// Elastic test settings; default the paper's.
+    #[serde(default)]
+    pub elastic: ElasticConfig,
+    /// Tensile test settings; default the paper's.
+    #[serde(default = "d_tensile")]
+    pub tensile: StrengthConfig,
+    /// Shear test settings; default the paper's.
+    #[serde(default = "d_shear")]
+    pub shear: StrengthConfig,
+    /// Sweep over d0, nu, s; default none.
+    #[serde(default)]
+    pub sweep: Sweep,
+    /// Save each generated sample next to the results (to reuse with `kind = "file"`); default false.
+    #[serde(default)]
+    pub save_samples: bool,
+}
+
+fn d_material() -> Material {
+    Material::table4(0.15)
+}
+fn d_tests() -> Vec<PatchKind> {
+    vec![PatchKind::Elastic, PatchKind::Tensile, PatchKind::Shear]
+}
+fn d_tensile() -> StrengthConfig {
+    StrengthConfig::paper(StrengthMode::Tensile)
+}
+fn d_shear() -> StrengthConfig {
+    StrengthConfig::paper(StrengthMode::Shear)
+}
+
+/// Results for one point of the sweep.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PatchCase {
+    pub d0_over_dc: Option<f64>,
+    pub poisson_ratio: f64,
+    pub scaling: f64,
+    pub particles: usize,
+    pub volume_fraction: f64,
+    pub coordination: Coordination,
+    pub sample_seconds: f64,
+    pub elastic: Option<ElasticResult>,
+    pub tensile: Option<StrengthResult>,
+    pub shear: Option<StrengthResult>,
+}
+
+/// Results of a campaign.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PatchReport {
+    pub config: PatchSuite,
+    pub cases: Vec<PatchCase>,
+}
+
+/// Builds the sample of `spec` for `model` (amorphous samples are relaxed with `relax`).
+pub fn make_sample(spec: &SampleSpec, model: &PairModel, relax: &RelaxConfig, par: Parallelism) -> Result<Sample> {
+    let d_c = model.material.critical_diameter();
+    let rho = model.material.density;
+    match spec {
+        SampleSpec::Hcp { d0_over_dc, l_over_d0, w_over_d0 } => {
+            let d0 = d0_over_dc * d_c;
+            Sample::hcp(Vec3::new(l_over_d0 * d0, l_over_d0 * d0, w_over_d0 * d0), d0, rho)
+        }
+        SampleSpec::Amorphous { d0_over_dc, l_over_d0, w_over_d0, ds_over_d0, dl_over_d0, dl_over_l, seed } => {
+            let d0 = d0_over_dc * d_c;
+            let l = l_over_d0 * d0;
+            let dl = dl_over_l.map_or(dl_over_d0 * d0, |f| (f * l).max(d0));
+            let ins = InsertionConfig {
+                lengths: Vec3::new(l, l, w_over_d0 * d0),
+                sizes: SizeDistribution::paper000(d0, ds_over_d0 * d0, dl),
+                volume_fraction: 0.75,
+                density: rho,
+                seed: *seed,
+            };
+            amorphous(&ins, model, relax, par)
+        }
+        SampleSpec::File { path } => Sample::load(path),
+    }
+}
+
+fn with_d0(spec: &SampleSpec, v: f64) -> Result<SampleSpec> {
+    let mut s = spec.clone();
+    match &mut s {
+        SampleSpec::Hcp { d0_over_dc, .. } | SampleSpec::Amorphous { d0_over_dc, .. } => *d0_over_dc = v,
+        SampleSpec::File { .. } => {
+            return Err(DemError::InvalidConfig("a d0 sweep needs a generated sample, not a file".into()))
+        }
+    }
+    Ok(s)
+}
+
+/// Runs every case of the campaign; with `out`, writes `report.json` and one CSV per test and case
+/// (`case<k>_<test>.csv`), plus the samples when `save_samples`.
+pub fn run_suite(suite: &PatchSuite, out: Option<&Path>, par: Parallelism) -> Result<PatchReport> {
+    let or_base = |v: &Vec<f64>, base: f64| if v.is_empty() { vec![base] } else { v.clone() };
+    let base_d0 = match &suite.sample {
+        SampleSpec::Hcp { d0_over_dc, .. } | SampleSpec::Amorphous { d0_over_dc, .. } => Some(*d0_over_dc),
+        SampleSpec::File { .. } => None,
+    };
+    let d0s: Vec<Option<f64>> = if suite.sweep.d0_over_dc.is_empty() {
+        vec![base_d0]
+    } else {
+        suite.sweep.d0_over_dc.iter().map(|&v| Some(v)).collect()
+    };
+    let mut cases = Vec::new();
+    for d0 in &d0s {
+        for &s in &or_base(&suite.sweep.scaling, suite.material.scaling) {
+            for &nu in &or_base(&suite.sweep.poisson_ratio, suite.material.poisson_ratio) {
+                let k = cases.len();
+                let mut model =
+                    PairModel::cohesive(Material { poisson_ratio: nu, scaling: s, ..suite.material.clone() });
+                model.scale = suite.scale;
+                model.validate()?;
+                let spec = match d0 {
+                    Some(v) if base_d0.is_some() => with_d0(&suite.sample, *v)?,
+                    _ => suite.sample.clone(),
+                };
+                tracing::info!(case = k, d0_over_dc = ?d0, nu, s, "patch case");
+                let t = std::time::Instant::now();
+                let sample = make_sample(&spec, &model, &suite.relax, par)?;
+                let sample_seconds = t.elapsed().as_secs_f64();
+                if let (Some(dir), true) = (out, suite.save_samples) {
+                    sample.save(&dir.join(format!("case{k}_sample.json")))?;
+                }
+                let coord = coordination(&sample.particles, &sample.sim_box, &model, 1e-3)?;
+                let mut case = PatchCase {
+                    d0_over_dc: *d0,
+                    poisson_ratio: nu,
+                    scaling: s,
+                    particles: sample.particles.len(),
+                    volume_fraction: sample.volume_fraction(),
+                    coordination: coord,
+                    sample_seconds,
+                    elastic: None,
+                    tensile: None,
+                    shear: None,
+                };
+                for kind in &suite.tests {
+                    match kind {
+                        PatchKind::Elastic => case.elastic = Some(elastic(&sample, &model, &suite.elastic, par)?),
+                        PatchKind::Tensile => case.tensile = Some(strength(&sample, &model, &suite.tensile, par)?),
+                        PatchKind::Shear => case.shear = Some(strength(&sample, &model, &suite.shear, par)?),
+                    }
+                }
+                if let Some(dir) = out {
+                    write_case_curves(dir, k, &case)?;
+                }
+                cases.push(case);
+                if let Some(dir) = out {
+                    write_report(dir, &PatchReport { config: suite.clone(), cases: cases.clone() })?;
+                }
+            }
+        }
+    }
+    Ok(PatchReport { config: suite.clone(), cases })
+}
+
+fn write_case_curves(dir: &Path, k: usize, case: &PatchCase) -> Result<()> {
+    if let Some(r) = &case.elastic {
+        r.curve.write_csv(&dir.join(format!("case{k}_elastic.csv")))?;
+    }
+    if let Some(r) = &case.tensile {
+        r.curve.write_csv(&dir.join(format!("case{k}_tensile.csv")))?;
+    }
+    if let Some(r) = &case.shear {
+        r.curve.write_csv(&dir.join(format!("case{k}_shear.csv")))?;
+    }
+    Ok(())
+}
+
+/// Writes `report.json` (pretty, atomically) in `dir`.
+pub fn write_report(dir: &Path, report: &PatchReport) -> Result<()> {
+    let path = dir.join("report.json");
+    let bytes = serde_json::to_vec_pretty(report)
+        .map_err(|e| DemError::Format { path: path.display().to_string(), reason: e.to_string() })?;
+    write_atomic(&path, &bytes)
+}

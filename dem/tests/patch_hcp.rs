@@ -1,0 +1,110 @@
+//! Patch tests on HCP lattices against paper 000 section 3.1 (Table 4 material, Figs. 5-6, A.4-A.5).
+//!
+//! Run times (release, this 2-core machine): elastic sweep ~3 s, tensile ~6 s, strength trend ~60 s.
+//! The lattice strengths do not depend on L (the deformation is homogeneous up to the peak), so the
+//! trend uses L = 8 d0; the elastic sweep uses the paper's L = 25 d0, W = 3 d0.
+
+use dem::sample::Sample;
+use dem::scenario::patch::{elastic, strength, ElasticConfig, StrengthConfig, StrengthMode};
+use dem::{Material, PairModel, Parallelism, Vec3};
+
+fn hcp(mat: &Material, d0_over_dc: f64, l_over_d0: f64) -> Sample {
+    let d0 = d0_over_dc * mat.critical_diameter();
+    Sample::hcp(Vec3::new(l_over_d0 * d0, l_over_d0 * d0, 3.0 * d0), d0, mat.density).unwrap()
+}
+
+#[test]
+fn hcp_young_modulus_and_poisson_ratio_within_12_percent() {
+    for nu in [0.0, 0.1, 0.15, 0.2, 0.25] {
+        let mat = Material::table4(nu);
+        let sample = hcp(&mat, 0.6, 25.0);
+        let r =
+            elastic(&sample, &PairModel::cohesive(mat), &ElasticConfig::default(), Parallelism::Sequential).unwrap();
+        assert!(r.converged, "nu {nu}: {r:?}");
+        let e_err = (r.young_modulus - 1.0).abs();
+        // Relative error in nu; at nu = 0 the absolute error, on the same 12 % scale of 0.1.
+        let nu_err = (r.poisson_ratio - nu).abs() / nu.max(0.1);
+        println!("nu {nu}: E {:.4} nu {:.4} ({} steps)", r.young_modulus, r.poisson_ratio, r.steps);
+        assert!(e_err < 0.12, "nu {nu}: E {} off by more than 12 %", r.young_modulus);
+        assert!(nu_err < 0.12, "nu {nu}: measured nu {} off by more than 12 %", r.poisson_ratio);
+        // The paper's trend: the error is smallest at nu = 0 and largest at 1/4.
+        if nu == 0.0 {
+            assert!(e_err < 0.02 && nu_err < 0.02, "{r:?}");
+        }
+    }
+}
+
+#[test]
+fn hcp_tensile_strength_within_5_percent_at_nu_0_and_fracture_energy() {
+    let mat = Material::table4(0.0);
+    let sample = hcp(&mat, 0.6, 10.0);
+    let cfg = StrengthConfig::paper(StrengthMode::Tensile);
+    let r = strength(&sample, &PairModel::cohesive(mat), &cfg, Parallelism::Sequential).unwrap();
+    println!("tensile {:.4} (target 0.2) at strain {:.4}, {:?}", r.strength, r.strain_at_peak, r.fracture);
+    assert!((r.ratio - 1.0).abs() < 0.05, "tensile strength {} vs 0.2", r.strength);
+    let f = r.fracture.unwrap();
+    assert!(f.separated, "{f:?}");
+    // Breaking every bond across a plane costs 2 gamma A_N per bond (eqs A.31-A.34): the measured
+    // surface energy has the scale of gamma (1.5), larger by the lattice's bond density on that plane.
+    assert!(f.surface_energy > 1.5 && f.surface_energy < 3.0, "{f:?}");
+    // The wall work also pays the elastic energy released at failure, ~sigma^2 L0 / (2 E) per area.
+    assert!(f.work_per_area > 2.0 * f.surface_energy, "{f:?}");
+}
+
+/// Peak stress for d0 in {0.6, 2.4, 9.6, 19.2} d_c (Figs. 5-6); returns (strengths, strength / target).
+fn strength_vs_d0(s: f64, mode: StrengthMode) -> (Vec<f64>, Vec<f64>) {
+    let mut cfg = StrengthConfig::paper(mode);
+    // Only the peak is needed here.
+    cfg.post_peak_strain = 0.02;
+    let (mut values, mut ratios) = (Vec::new(), Vec::new());
+    for d0 in [0.6, 2.4, 9.6, 19.2] {
+        let mut mat = Material::table4(0.0);
+        mat.scaling = s;
+        let sample = hcp(&mat, d0, 8.0);
+        let r = strength(&sample, &PairModel::cohesive(mat), &cfg, Parallelism::Sequential).unwrap();
+        println!("s {s} {mode:?} d0 {d0} d_c: {:.4} target {:.4} ratio {:.3}", r.strength, r.target_strength, r.ratio);
+        values.push(r.strength);
+        ratios.push(r.ratio);
+    }
+    (values, ratios)
+}
+
+/// Above d_c with s = 0 the model is scale-free (delta_f = delta_e ~ d, k ~ d), so the strengths are flat.
+fn assert_flat_above_dc(values: &[f64]) {
+    let (lo, hi) = values[1..].iter().fold((f64::INFINITY, 0.0f64), |a, &v| (a.0.min(v), a.1.max(v)));
+    assert!(hi / lo < 1.01, "{values:?}");
+}
+
+#[test]
+fn hcp_tensile_strength_flat_in_d0_for_s_0() {
+    let (values, ratios) = strength_vs_d0(0.0, StrengthMode::Tensile);
+    assert_flat_above_dc(&values);
+    assert!(ratios.iter().all(|r| (r - 1.0).abs() < 0.1), "{ratios:?}");
+}
+
+#[test]
+fn hcp_tensile_strength_follows_eq20_for_s_half() {
+    // Eq (20): the target falls as (d0 / d_c)^(-1/2) above d_c; the measured strengths follow it within 5 %.
+    let (_, ratios) = strength_vs_d0(0.5, StrengthMode::Tensile);
+    assert!(ratios.iter().all(|r| (r - 1.0).abs() < 0.05), "{ratios:?}");
+}
+
+#[test]
+fn hcp_shear_strength_flat_in_d0_for_s_0() {
+    let (values, ratios) = strength_vs_d0(0.0, StrengthMode::Shear);
+    assert_flat_above_dc(&values);
+    // Measured: 1.24 below d_c and 1.44 above (the paper finds the shear strength below target for
+    // d0 < d_c; see docs/patch-tests.md). Pin the level so that a regression shows.
+    assert!(ratios.iter().all(|&r| r > 1.1 && r < 1.6), "{ratios:?}");
+}
+
+#[test]
+fn hcp_shear_strength_falls_with_d0_for_s_half() {
+    let (values, ratios) = strength_vs_d0(0.5, StrengthMode::Shear);
+    // The trend of eq (20): monotone decrease above d_c. It is slower than the target's (x0.54 from 2.4
+    // to 19.2 d_c against x0.35), so the ratio grows: the tangential cap F_mT does not scale with s, only
+    // the normal bonds do (docs/patch-tests.md).
+    assert!(values.windows(2).all(|w| w[1] < w[0]), "{values:?}");
+    assert!(values[3] < 0.7 * values[1], "{values:?}");
+    assert!(ratios[3] < 3.5, "{ratios:?}");
+}

@@ -1,0 +1,95 @@
+//! Amorphous samples (paper 000 section 3.2, Figs. 7-8): seeded insertion, two-phase relaxation to the
+//! paper's 1e-14 E, save/load, and the relaxed volume fraction and modulus against d0 for s = 0 and 1/2.
+//! L = 10 d0 here (the paper: 100 d0); docs/patch-tests.md gives the figures at L = 20 d0 and how they
+//! move with L. Run time (release, 2 cores): ~40 s.
+
+use dem::sample::insert::InsertionConfig;
+use dem::sample::{amorphous, RelaxConfig, Sample, SizeDistribution};
+use dem::scenario::patch::{elastic, ElasticConfig};
+use dem::{Material, PairModel, Parallelism, Vec3};
+
+fn insertion(mat: &Material, d0_over_dc: f64, l_over_d0: f64, seed: u64) -> InsertionConfig {
+    let d0 = d0_over_dc * mat.critical_diameter();
+    InsertionConfig {
+        lengths: Vec3::new(l_over_d0 * d0, l_over_d0 * d0, 3.0 * d0),
+        sizes: SizeDistribution::paper000_default(d0),
+        volume_fraction: 0.75,
+        density: mat.density,
+        seed,
+    }
+}
+
+#[test]
+fn relaxation_is_seeded_reaches_1e_14_e_and_round_trips() {
+    let mat = Material::table4(0.15);
+    let model = PairModel::cohesive(mat.clone());
+    let cfg = RelaxConfig::default();
+    let ins = insertion(&mat, 0.6, 6.0, 11);
+    let a = amorphous(&ins, &model, &cfg, Parallelism::Sequential).unwrap();
+    let r = a.relaxation.clone().unwrap();
+    println!(
+        "phase 2: {} steps, max stress {:.2e} E, vf {:.4}",
+        r.phase2_steps, r.max_stress_over_e, r.volume_fraction
+    );
+    assert!(r.converged && r.max_stress_over_e < 1e-14, "{r:?}");
+    assert!(r.phase2_steps > 1000 && r.phase2_steps < 60_000, "{r:?}");
+    // Target density after the mass rescaling; particles at rest inside the box.
+    let mass: f64 = a.particles.mass.iter().sum();
+    assert!((mass / a.sim_box.volume() - mat.density).abs() < 1e-12);
+    assert!(a.particles.vel.iter().all(|v| v.norm() == 0.0));
+    assert!(r.coordination.isolated == 0 && r.coordination.interacting > 12.0, "{r:?}");
+    // Same seed, same sample, bit for bit, with 1 or 2 threads; another seed differs.
+    let b = amorphous(&ins, &model, &cfg, Parallelism::Threads(2)).unwrap();
+    assert!(a.particles == b.particles, "1 and 2 threads differ");
+    let c = amorphous(&InsertionConfig { seed: 12, ..ins }, &model, &cfg, Parallelism::Sequential).unwrap();
+    assert_ne!(a.particles.pos, c.particles.pos);
+    // Save and load are exact.
+    let path = std::env::temp_dir().join(format!("cgdem_sample_{}.json", std::process::id()));
+    a.save(&path).unwrap();
+    let back = Sample::load(&path).unwrap();
+    std::fs::remove_file(&path).ok();
+    assert!(a == back, "save/load is not exact");
+    assert!(Sample::load(std::path::Path::new("/nonexistent/sample.json")).is_err());
+}
+
+/// Relaxed volume fraction and E at d0 = 1.2, 4.8, 19.2 d_c for scaling `s`.
+fn vf_and_e(s: f64) -> Vec<(f64, f64)> {
+    let mut out = Vec::new();
+    // A different seed per size: with one seed the s = 0 samples would be exact rescalings of each other.
+    for (seed, d0) in [(1, 1.2), (2, 4.8), (3, 19.2)] {
+        let mut mat = Material::table4(0.15);
+        mat.scaling = s;
+        let model = PairModel::cohesive(mat.clone());
+        let sample =
+            amorphous(&insertion(&mat, d0, 10.0, seed), &model, &RelaxConfig::default(), Parallelism::Sequential)
+                .unwrap();
+        let r = sample.relaxation.clone().unwrap();
+        assert!(r.converged, "{r:?}");
+        let e = elastic(&sample, &model, &ElasticConfig::default(), Parallelism::Sequential).unwrap();
+        println!(
+            "s {s} d0 {d0} d_c: n {} vf {:.4} Z {:.2} E {:.4} nu {:.4}",
+            r.particles, r.volume_fraction, r.coordination.interacting, e.young_modulus, e.poisson_ratio
+        );
+        out.push((r.volume_fraction, e.young_modulus));
+    }
+    out
+}
+
+#[test]
+fn volume_fraction_is_independent_of_d0_for_s_0() {
+    // Above d_c with s = 0 the model is scale-free, so only the random packing changes (Fig. 7).
+    let r = vf_and_e(0.0);
+    let (lo, hi) = r.iter().fold((f64::INFINITY, 0.0f64), |a, v| (a.0.min(v.0), a.1.max(v.0)));
+    assert!(hi - lo < 0.01, "{r:?}");
+    let (elo, ehi) = r.iter().fold((f64::INFINITY, 0.0f64), |a, v| (a.0.min(v.1), a.1.max(v.1)));
+    assert!(ehi / elo < 1.1, "{r:?}");
+}
+
+#[test]
+fn volume_fraction_and_modulus_fall_with_d0_for_s_half() {
+    // Figs. 7-8: a shorter relative range delta_f / d0 leaves a looser, softer packing.
+    let r = vf_and_e(0.5);
+    assert!(r.windows(2).all(|w| w[1].0 < w[0].0), "volume fraction {r:?}");
+    assert!(r.windows(2).all(|w| w[1].1 < w[0].1), "E {r:?}");
+    assert!(r[2].0 < r[0].0 - 0.02, "{r:?}");
+}
