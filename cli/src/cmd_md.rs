@@ -41,6 +41,17 @@ enum MdWhat {
         #[command(flatten)]
         launch: Launch,
     },
+    /// The 2D Lennard-Jones model material: properties and d* (reduced units).
+    Model {
+        /// TOML with `ModelConfig` fields; missing fields take the defaults.
+        #[arg(long)]
+        config: Option<PathBuf>,
+        /// Output directory (model.json).
+        #[arg(long)]
+        out: PathBuf,
+        #[command(flatten)]
+        launch: Launch,
+    },
     /// Runs a LAMMPS input file in a worker and prints the listed equal-style variables as JSON.
     Script {
         input: PathBuf,
@@ -112,6 +123,11 @@ pub fn run(a: MdArgs) -> Result<()> {
             out,
             launch: l,
         } => silica(config.as_deref(), &out, &l),
+        MdWhat::Model {
+            config,
+            out,
+            launch: l,
+        } => model(config.as_deref(), &out, &l),
         MdWhat::Script {
             input,
             read,
@@ -296,6 +312,43 @@ pub fn bench(a: BenchMdArgs) -> Result<()> {
         "ratio bridge/lmp (best of each): {:.4} ({:+.2} %)",
         r.ratio,
         (r.ratio - 1.0) * 100.0
+    );
+    Ok(())
+}
+
+fn model(config: Option<&Path>, out: &Path, l: &Launch) -> Result<()> {
+    let cfg: md_bridge::model::ModelConfig = match config {
+        Some(p) => {
+            let text =
+                std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
+            toml::from_str(&text)
+                .with_context(|| format!("parsing model config {}", p.display()))?
+        }
+        None => Default::default(),
+    };
+    cfg.validate()?;
+    let rec = launch(&Job::Model(cfg.clone()), l)?;
+    let JobOutput::Model(r) = &rec.output else {
+        bail!("unexpected output {:?}", rec.output)
+    };
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    std::fs::write(out.join("model.json"), serde_json::to_string_pretty(&rec)?)?;
+    println!(
+        "2D LJ hex crystal, cutoff {} sigma, {} atoms ({:.0} atoms/nm2 at sigma = {} nm)",
+        cfg.cutoff, r.n_atoms, r.atoms_per_nm2, cfg.sigma_nm
+    );
+    println!(
+        "C11 {:.2}  C12 {:.2}  C66 {:.2}  ->  E {:.2}  nu {:.3}  G {:.2}  (epsilon/sigma^2)",
+        r.c11, r.c12, r.c66, r.young_modulus, r.poisson_ratio, r.shear_modulus
+    );
+    println!(
+        "tension peak {:.3} at strain {:.3}; shear peak {:.3} at strain {:.3}",
+        r.tension.peak_stress, r.tension.peak_strain, r.shear.peak_stress, r.shear.peak_strain
+    );
+    println!("surface energy {:.3} epsilon/sigma", r.surface_energy);
+    println!(
+        "d_min {:.2}  d_c {:.2}  d* {:.2} sigma  (d* = {:.2} nm)",
+        r.d_min, r.d_c, r.d_star, r.d_star_nm
     );
     Ok(())
 }

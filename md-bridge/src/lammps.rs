@@ -330,11 +330,29 @@ impl Lammps {
     }
 
     /// Restores box bounds and tilts exactly (atoms are not remapped; scatter positions after).
+    /// In 2D only x, y and xy are set (LAMMPS refuses to touch z there).
     pub fn set_box(&self, b: &BoxState) -> Result<()> {
-        self.command(&format!(
-            "change_box all x final {:.17e} {:.17e} y final {:.17e} {:.17e} z final {:.17e} {:.17e} xy final {:.17e} xz final {:.17e} yz final {:.17e} units box",
-            b.lo[0], b.hi[0], b.lo[1], b.hi[1], b.lo[2], b.hi[2], b.tilt[0], b.tilt[1], b.tilt[2]
-        ))
+        let dim: i32 = Python::attach(|py| {
+            self.call(
+                py,
+                "extract_setting",
+                ("dimension",),
+                "extract_setting(dimension)",
+            )?
+            .extract()
+            .map_err(|e| MdError::Python(py_err(py, e)))
+        })?;
+        let mut cmd = format!(
+            "change_box all x final {:.17e} {:.17e} y final {:.17e} {:.17e} xy final {:.17e}",
+            b.lo[0], b.hi[0], b.lo[1], b.hi[1], b.tilt[0]
+        );
+        if dim == 3 {
+            cmd.push_str(&format!(
+                " z final {:.17e} {:.17e} xz final {:.17e} yz final {:.17e}",
+                b.lo[2], b.hi[2], b.tilt[1], b.tilt[2]
+            ));
+        }
+        self.command(&format!("{cmd} units box"))
     }
 
     fn gather_bytes(&self, name: &str, dtype: i32, count: usize) -> Result<Vec<u8>> {

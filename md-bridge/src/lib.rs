@@ -19,6 +19,8 @@ pub mod doctor;
 pub mod error;
 pub mod job;
 pub mod lammps;
+pub mod loading;
+pub mod model;
 pub mod outcome;
 mod python;
 pub mod silica;

@@ -15,6 +15,7 @@ fn execute(lmp: &Lammps, venv: &Venv, job: &Job) -> Result<JobOutput> {
             let pot = venv.potential(crate::silica::POTENTIAL)?;
             crate::silica::run(lmp, &pot, cfg).map(|r| JobOutput::Silica(Box::new(r)))
         }
+        Job::Model(cfg) => crate::model::run(lmp, cfg).map(|r| JobOutput::Model(Box::new(r))),
         Job::Script {
             commands,
             read_variables,

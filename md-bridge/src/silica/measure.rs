@@ -1,9 +1,10 @@
 //! The individual silica measurements. Each starts from the 0 K [`Reference`] state (restored by
 //! scattering saved positions into the saved box), so they are independent of each other's order.
 
-use super::{Curve, SilicaConfig, Strength, BAR_TO_PA, EV_PER_A2_TO_J_PER_M2};
+use super::{SilicaConfig, Strength, BAR_TO_PA, EV_PER_A2_TO_J_PER_M2};
 use crate::error::{MdError, Result};
 use crate::lammps::{BoxState, Lammps};
+use crate::loading::{load_curve, peak_of, Ramp};
 use std::path::Path;
 
 const MASS_SI: f64 = 28.0855;
@@ -181,67 +182,14 @@ pub fn elastic(lmp: &Lammps, cfg: &SilicaConfig, r: &Reference) -> Result<Elasti
     })
 }
 
-/// Runs a deformation in chunks, recording (strain, chunk-averaged stress), until `max_strain` or
-/// until the stress has fallen below `drop` x peak (failure), whichever first.
-fn load_curve(
-    lmp: &Lammps,
-    cfg: &SilicaConfig,
-    stress_var: &str,
-    strain_var: &str,
-    max_strain: f64,
-    drop: f64,
-) -> Result<Curve> {
-    let chunk = cfg.steps(0.0025 / cfg.strain_rate).max(10); // 0.25 % strain per point
-                                                             // `start`/`stop` make fix deform see one continuous ramp across the chunked runs (without
-                                                             // them every `run ... pre no` restarts the ramp from the box of the first run's init).
-                                                             // The chunk count also bounds the loop if the strain variable misbehaves.
-    let chunks = cfg.steps(max_strain / cfg.strain_rate) / chunk + 1;
-    let total = chunks * chunk;
-    lmp.commands(&format!(
-        "fix sav all ave/time 1 {chunk} {chunk} v_{stress_var}\nvariable sava equal f_sav"
-    ))?;
-    let mut curve: Curve = Vec::new();
-    let (mut peak, mut peak_strain) = (f64::MIN, 0.0);
-    let mut first = true;
-    for _ in 0..chunks {
-        let pre = if first { "yes" } else { "no" };
-        lmp.command(&format!(
-            "run {chunk} start 0 stop {total} pre {pre} post no"
-        ))?;
-        first = false;
-        let strain = lmp.variable(strain_var)?;
-        let s = lmp.variable("sava")? * BAR_TO_PA;
-        curve.push([strain, s]);
-        if s > peak {
-            (peak, peak_strain) = (s, strain);
-        }
-        // Failure: well past the peak (a thermal blip is not a peak) and clearly below it.
-        if strain >= max_strain || (strain > peak_strain + 0.05 && s < drop * peak && peak > 0.0) {
-            break;
-        }
+/// Loading ramp of the strength tests: 0.25 % strain per recorded point, up to `max_strain`.
+fn ramp(cfg: &SilicaConfig, max_strain: f64) -> Ramp {
+    let per_point = cfg.steps(0.0025 / cfg.strain_rate).max(10);
+    Ramp {
+        steps_per_point: per_point,
+        points: cfg.steps(max_strain / cfg.strain_rate) / per_point + 1,
+        stress_scale: BAR_TO_PA,
     }
-    lmp.command("unfix sav")?;
-    Ok(curve)
-}
-
-fn peak_of(curve: Curve, what: &str) -> Result<Strength> {
-    let (i, p) = curve
-        .iter()
-        .enumerate()
-        .max_by(|a, b| a.1[1].total_cmp(&b.1[1]))
-        .ok_or_else(|| MdError::measurement(what, "empty stress-strain curve"))?;
-    if p[1].is_nan() || p[1] <= 0.0 {
-        return Err(MdError::measurement(
-            what,
-            format!("no positive stress (peak {} Pa)", p[1]),
-        ));
-    }
-    Ok(Strength {
-        peak_stress: p[1],
-        peak_strain: p[0],
-        peak_reached: i + 1 < curve.len(),
-        curve,
-    })
 }
 
 /// Thermalises the reference state at `strength_temperature` and zero stress (all six components)
@@ -275,7 +223,14 @@ fix def all deform 1 x erate {rate} remap x",
         lx0 = lmp.box_state()?.lengths()[0],
         rate = cfg.strain_rate,
     ))?;
-    let curve = load_curve(lmp, cfg, "sxx", "strain", cfg.max_tensile_strain, 0.5)?;
+    let curve = load_curve(
+        lmp,
+        &ramp(cfg, cfg.max_tensile_strain),
+        "sxx",
+        "strain",
+        cfg.max_tensile_strain,
+        0.5,
+    )?;
     lmp.commands("unfix def\nunfix md")?;
     peak_of(curve, "tensile strength")
 }
@@ -296,7 +251,14 @@ fix_modify md temp tdef",
         xy0 = lmp.box_state()?.tilt[0],
     ))?;
     // Glass flows after the peak rather than dropping: stop at 80 % of the peak.
-    let curve = load_curve(lmp, cfg, "sxy", "gxy", cfg.max_shear_strain, 0.8)?;
+    let curve = load_curve(
+        lmp,
+        &ramp(cfg, cfg.max_shear_strain),
+        "sxy",
+        "gxy",
+        cfg.max_shear_strain,
+        0.8,
+    )?;
     lmp.commands("unfix md\nunfix def\nuncompute tdef")?;
     peak_of(curve, "shear strength")
 }

@@ -158,19 +158,7 @@ impl SilicaConfig {
     }
 }
 
-/// A strain-stress history point: (engineering strain, stress in Pa).
-pub type Curve = Vec<[f64; 2]>;
-
-/// Peak of a loading curve.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Strength {
-    /// Pa.
-    pub peak_stress: f64,
-    pub peak_strain: f64,
-    /// False when the peak is the last point (the sample had not failed/yielded yet).
-    pub peak_reached: bool,
-    pub curve: Curve,
-}
+pub use crate::loading::{Curve, Strength};
 
 /// Everything the silica workflow measured (SI units).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
