@@ -2,6 +2,7 @@
 
 mod cmd_doctor;
 mod cmd_md;
+mod cmd_patch;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -31,6 +32,10 @@ enum Command {
     MdWorker(cmd_md::WorkerArgs),
     /// Bridge overhead: the same LAMMPS input through the embedded bridge and through `lmp`.
     BenchMd(cmd_md::BenchMdArgs),
+    /// Patch tests (paper 000 section 3): `cgdem patch configs/patch-hcp.toml --out DIR`.
+    Patch(cmd_patch::PatchArgs),
+    /// Make and save one sample (HCP or relaxed amorphous): `cgdem sample CONFIG --out FILE`.
+    Sample(cmd_patch::SampleArgs),
 }
 
 fn main() -> Result<()> {
@@ -47,5 +52,7 @@ fn main() -> Result<()> {
         Command::Md(a) => cmd_md::run(a),
         Command::MdWorker(a) => cmd_md::worker(a),
         Command::BenchMd(a) => cmd_md::bench(a),
+        Command::Patch(a) => cmd_patch::run(a, cli.threads),
+        Command::Sample(a) => cmd_patch::run_sample(a, cli.threads),
     }
 }
