@@ -23,7 +23,10 @@ impl SimBox {
     pub fn new(lo: Vec3, hi: Vec3, periodic: [bool; 3]) -> Result<Self> {
         for a in 0..3 {
             if !(lo[a].is_finite() && hi[a].is_finite() && hi[a] > lo[a]) {
-                return Err(DemError::InvalidBox(format!("axis {a}: lo {} must be below hi {}", lo[a], hi[a])));
+                return Err(DemError::InvalidBox(format!(
+                    "axis {a}: lo {} must be below hi {}",
+                    lo[a], hi[a]
+                )));
             }
         }
         Ok(SimBox { lo, hi, periodic })
@@ -104,7 +107,13 @@ pub enum BoxControl {
     /// Moves the selected axes until the diagonal virial stress equals `target` (tension positive):
     /// each step the strain increment along a is `gain (sigma_aa - target_a) / modulus`, capped at
     /// `max_strain_step`, and particles are remapped affinely.
-    Stress { target: Vec3, axes: [bool; 3], modulus: f64, gain: f64, max_strain_step: f64 },
+    Stress {
+        target: Vec3,
+        axes: [bool; 3],
+        modulus: f64,
+        gain: f64,
+        max_strain_step: f64,
+    },
 }
 
 impl BoxControl {
@@ -115,11 +124,23 @@ impl BoxControl {
                 if rate.iter().all(|r| r.is_finite()) {
                     Ok(())
                 } else {
-                    Err(DemError::InvalidConfig("box strain rate must be finite".into()))
+                    Err(DemError::InvalidConfig(
+                        "box strain rate must be finite".into(),
+                    ))
                 }
             }
-            BoxControl::Stress { target, axes, modulus, gain, max_strain_step } => {
-                if !(modulus > 0.0 && gain > 0.0 && max_strain_step > 0.0) || !target.iter().all(|t| t.is_finite()) {
+            BoxControl::Stress {
+                target,
+                axes,
+                modulus,
+                gain,
+                max_strain_step,
+            } => {
+                if !(modulus > 0.0
+                    && gain > 0.0
+                    && max_strain_step > 0.0
+                    && target.iter().all(|t| t.is_finite()))
+                {
                     return Err(DemError::InvalidConfig(
                         "stress control needs finite target and positive modulus, gain and max_strain_step".into(),
                     ));
@@ -143,7 +164,12 @@ mod tests {
 
     #[test]
     fn wrap_and_min_image() {
-        let b = SimBox::new(Vec3::zeros(), Vec3::new(10.0, 10.0, 10.0), [true, true, false]).unwrap();
+        let b = SimBox::new(
+            Vec3::zeros(),
+            Vec3::new(10.0, 10.0, 10.0),
+            [true, true, false],
+        )
+        .unwrap();
         let mut x = Vec3::new(-0.5, 23.0, -4.0);
         b.wrap(&mut x);
         assert!((x - Vec3::new(9.5, 3.0, -4.0)).norm() < 1e-12);

@@ -28,13 +28,24 @@ pub enum DemError {
     TimeStepAboveCritical { dt: f64, dt_critical: f64 },
     /// Two rigid groups (walls) whose particles overlap in space.
     #[error("rigid groups '{a}' and '{b}' overlap: {detail}")]
-    OverlappingRigidGroups { a: String, b: String, detail: String },
+    OverlappingRigidGroups {
+        a: String,
+        b: String,
+        detail: String,
+    },
     /// A NaN or infinity appeared during integration.
     #[error("non-finite value at step {step} for particle {index} ({what}); the run diverged (time step too large, or overlapping particles?)")]
-    NonFinite { step: u64, index: usize, what: &'static str },
+    NonFinite {
+        step: u64,
+        index: usize,
+        what: &'static str,
+    },
     /// Reading or writing a file failed.
     #[error("i/o error on {path}: {source}")]
-    Io { path: String, source: std::io::Error },
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
     /// A checkpoint or sample file that cannot be parsed.
     #[error("malformed file {path}: {reason}")]
     Format { path: String, reason: String },
@@ -45,6 +56,9 @@ pub type Result<T, E = DemError> = std::result::Result<T, E>;
 
 impl DemError {
     pub(crate) fn io(path: &std::path::Path, source: std::io::Error) -> Self {
-        DemError::Io { path: path.display().to_string(), source }
+        DemError::Io {
+            path: path.display().to_string(),
+            source,
+        }
     }
 }

@@ -26,7 +26,14 @@ pub(crate) fn advance_free(
     dt: f64,
     parallel: bool,
 ) -> (f64, f64) {
-    let Particles { pos, vel, omega, mass, inertia, .. } = parts;
+    let Particles {
+        pos,
+        vel,
+        omega,
+        mass,
+        inertia,
+        ..
+    } = parts;
     let (mass, inertia) = (&*mass, &*inertia);
     let run = |start: usize, x: &mut [Vec3], v: &mut [Vec3], w: &mut [Vec3]| -> (f64, f64) {
         let (mut ke, mut pd) = (0.0, 0.0);
@@ -56,11 +63,18 @@ pub(crate) fn advance_free(
             .enumerate()
             .map(|(c, ((x, v), w))| run(c * CHUNK, x, v, w))
             .collect();
-        partial.iter().fold((0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1))
+        partial
+            .iter()
+            .fold((0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1))
     } else {
         // Same chunking as the parallel path, so the floating-point sums are identical.
         let mut acc = (0.0, 0.0);
-        for (c, ((x, v), w)) in pos.chunks_mut(CHUNK).zip(vel.chunks_mut(CHUNK)).zip(omega.chunks_mut(CHUNK)).enumerate() {
+        for (c, ((x, v), w)) in pos
+            .chunks_mut(CHUNK)
+            .zip(vel.chunks_mut(CHUNK))
+            .zip(omega.chunks_mut(CHUNK))
+            .enumerate()
+        {
             let r = run(c * CHUNK, x, v, w);
             acc = (acc.0 + r.0, acc.1 + r.1);
         }
@@ -82,7 +96,11 @@ mod tests {
             advance_free(&mut p, &[Vec3::zeros()], &torque, &[false], 0.0, dt, false);
         }
         let expect = 5.0 / p.inertia[0] * 1.0;
-        assert!((p.omega[0].z - expect).abs() < 1e-12 * expect, "{} vs {expect}", p.omega[0].z);
+        assert!(
+            (p.omega[0].z - expect).abs() < 1e-12 * expect,
+            "{} vs {expect}",
+            p.omega[0].z
+        );
     }
 
     #[test]

@@ -64,7 +64,8 @@ impl Material {
 
     /// Critical diameter d_c = 4 gamma E / sigma_N^2 (eq 18).
     pub fn critical_diameter(&self) -> f64 {
-        4.0 * self.surface_energy * self.young_modulus / (self.tensile_strength * self.tensile_strength)
+        4.0 * self.surface_energy * self.young_modulus
+            / (self.tensile_strength * self.tensile_strength)
     }
 
     /// Minimum sensible particle diameter d_min = 4 gamma / sigma_N (eq 19), the largest delta_f.
@@ -106,16 +107,25 @@ impl Material {
             }
         }
         if self.shear_strength < 0.0 {
-            return bad(format!("shear_strength = {} must not be negative", self.shear_strength));
+            return bad(format!(
+                "shear_strength = {} must not be negative",
+                self.shear_strength
+            ));
         }
         if !(self.restitution > 0.0 && self.restitution <= 1.0) {
-            return bad(format!("restitution = {} must lie in (0, 1]", self.restitution));
+            return bad(format!(
+                "restitution = {} must lie in (0, 1]",
+                self.restitution
+            ));
         }
         if self.scaling < 0.0 {
             return bad(format!("scaling s = {} must be >= 0 (eq 10)", self.scaling));
         }
         if self.poisson_ratio <= -1.0 {
-            return bad(format!("poisson_ratio = {} must be > -1", self.poisson_ratio));
+            return bad(format!(
+                "poisson_ratio = {} must be > -1",
+                self.poisson_ratio
+            ));
         }
         match law {
             ForceLaw::Cohesive if self.poisson_ratio > 0.25 => bad(format!(
@@ -173,7 +183,13 @@ pub struct ParamScale {
 
 impl Default for ParamScale {
     fn default() -> Self {
-        ParamScale { k_n: 1.0, k_t: 1.0, delta_e: 1.0, delta_f: 1.0, f_mt: 1.0 }
+        ParamScale {
+            k_n: 1.0,
+            k_t: 1.0,
+            delta_e: 1.0,
+            delta_f: 1.0,
+            f_mt: 1.0,
+        }
     }
 }
 
@@ -187,7 +203,9 @@ impl ParamScale {
             ("f_mt", self.f_mt),
         ] {
             if !(v.is_finite() && v > 0.0) {
-                return Err(DemError::InvalidMaterial(format!("parameter multiplier {n} = {v} must be positive")));
+                return Err(DemError::InvalidMaterial(format!(
+                    "parameter multiplier {n} = {v} must be positive"
+                )));
             }
         }
         Ok(())
@@ -206,11 +224,20 @@ pub struct Interactions {
 
 impl Interactions {
     /// Everything on.
-    pub const FULL: Interactions = Interactions { cohesion: true, tangential: true };
+    pub const FULL: Interactions = Interactions {
+        cohesion: true,
+        tangential: true,
+    };
     /// Repulsive normal contact only (relaxation phase 1, restitution tests).
-    pub const REPULSIVE: Interactions = Interactions { cohesion: false, tangential: false };
+    pub const REPULSIVE: Interactions = Interactions {
+        cohesion: false,
+        tangential: false,
+    };
     /// Cohesive normal force, no tangential force (relaxation phase 2).
-    pub const NORMAL: Interactions = Interactions { cohesion: true, tangential: false };
+    pub const NORMAL: Interactions = Interactions {
+        cohesion: true,
+        tangential: false,
+    };
 }
 
 /// The complete pair model: material, formulation and switches. Per-pair parameters are derived on the
@@ -293,7 +320,8 @@ impl PairModel {
         match self.law {
             ForceLaw::Cohesive => {
                 let an = std::f64::consts::SQRT_2 / (1.0 - 2.0 * nu);
-                let at = std::f64::consts::SQRT_2 * (1.0 - 4.0 * nu) / ((1.0 - 2.0 * nu) * (1.0 + nu));
+                let at =
+                    std::f64::consts::SQRT_2 * (1.0 - 4.0 * nu) / ((1.0 - 2.0 * nu) * (1.0 + nu));
                 (an, at)
             }
             ForceLaw::NormalOnly => (2.0 * std::f64::consts::SQRT_2, 0.0),
@@ -362,8 +390,16 @@ impl PairCoefficients {
         let tangential = model.has_tangential();
         PairCoefficients {
             kn_coef: an * m.young_modulus * model.scale.k_n,
-            kt_coef: if tangential { at * m.young_modulus * model.scale.k_t } else { 0.0 },
-            fmt_coef: if tangential { at * m.shear_strength * model.scale.f_mt } else { 0.0 },
+            kt_coef: if tangential {
+                at * m.young_modulus * model.scale.k_t
+            } else {
+                0.0
+            },
+            fmt_coef: if tangential {
+                at * m.shear_strength * model.scale.f_mt
+            } else {
+                0.0
+            },
             strain_e: m.tensile_strength / m.young_modulus,
             delta_f_small: m.min_diameter(),
             d_c: m.critical_diameter(),
@@ -465,8 +501,14 @@ mod tests {
             density: 2200.0,
             scaling: 0.5,
         };
-        assert!((m.min_diameter() - 0.375e-9).abs() < 0.01e-9, "d_min = 0.37 nm");
-        assert!((m.critical_diameter() - 1.71e-9).abs() < 0.01e-9, "d_c = 1.7 nm");
+        assert!(
+            (m.min_diameter() - 0.375e-9).abs() < 0.01e-9,
+            "d_min = 0.37 nm"
+        );
+        assert!(
+            (m.critical_diameter() - 1.71e-9).abs() < 0.01e-9,
+            "d_c = 1.7 nm"
+        );
     }
 
     #[test]
@@ -478,7 +520,12 @@ mod tests {
         let p = model.params(r, r, 1.0, 1.0);
         let s2 = std::f64::consts::SQRT_2;
         assert!(rel(p.k_n, s2 * r / (2.0 * (1.0 - 2.0 * nu))) < 1e-14);
-        assert!(rel(p.k_t, s2 * r * (1.0 - 4.0 * nu) / (2.0 * (1.0 + nu) * (1.0 - 2.0 * nu))) < 1e-14);
+        assert!(
+            rel(
+                p.k_t,
+                s2 * r * (1.0 - 4.0 * nu) / (2.0 * (1.0 + nu) * (1.0 - 2.0 * nu))
+            ) < 1e-14
+        );
         // delta_f = 4 gamma / sigma = 30 below d_c; delta_e = 2r sigma/E = 18.
         assert!(rel(p.delta_f, 30.0) < 1e-14);
         assert!(rel(p.delta_e, 18.0) < 1e-14);
@@ -530,11 +577,23 @@ mod tests {
         let e = m.validate(ForceLaw::Cohesive).unwrap_err().to_string();
         assert!(e.contains("1/4"), "{e}");
         m.poisson_ratio = 0.15;
-        assert!(m.validate(ForceLaw::NormalOnly).unwrap_err().to_string().contains("0.25"));
+        assert!(m
+            .validate(ForceLaw::NormalOnly)
+            .unwrap_err()
+            .to_string()
+            .contains("0.25"));
         m.tensile_strength = -1.0;
-        assert!(m.validate(ForceLaw::Cohesive).unwrap_err().to_string().contains("tensile_strength"));
+        assert!(m
+            .validate(ForceLaw::Cohesive)
+            .unwrap_err()
+            .to_string()
+            .contains("tensile_strength"));
         m.tensile_strength = f64::NAN;
-        assert!(m.validate(ForceLaw::Cohesive).unwrap_err().to_string().contains("finite"));
+        assert!(m
+            .validate(ForceLaw::Cohesive)
+            .unwrap_err()
+            .to_string()
+            .contains("finite"));
         let mut m = Material::table4(-1.0);
         assert!(m.validate(ForceLaw::Cohesive).is_err());
         m.poisson_ratio = 0.1;

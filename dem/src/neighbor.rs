@@ -65,9 +65,14 @@ impl NeighborList {
     /// An empty list with the given skin (build it before use).
     pub fn new(skin: f64) -> Result<Self> {
         if !(skin.is_finite() && skin >= 0.0) {
-            return Err(DemError::InvalidConfig(format!("neighbour skin {skin} must be >= 0")));
+            return Err(DemError::InvalidConfig(format!(
+                "neighbour skin {skin} must be >= 0"
+            )));
         }
-        Ok(NeighborList { skin, ..Default::default() })
+        Ok(NeighborList {
+            skin,
+            ..Default::default()
+        })
     }
 
     /// Number of pairs.
@@ -97,7 +102,13 @@ impl NeighborList {
 
     /// Rebuilds the list for `pos` (wrapped into the box in place), keeping the history of pairs that
     /// persist.
-    pub fn build(&mut self, pos: &mut [Vec3], radius: &[f64], bx: &SimBox, range: &impl PairRange) -> Result<()> {
+    pub fn build(
+        &mut self,
+        pos: &mut [Vec3],
+        radius: &[f64],
+        bx: &SimBox,
+        range: &impl PairRange,
+    ) -> Result<()> {
         let n = pos.len();
         let _span = tracing::trace_span!("neighbor_build", n).entered();
         // Wrap, remembering by how many box lengths each particle moved, to correct the old images.
@@ -191,7 +202,9 @@ impl NeighborList {
                 let (ns, ne) = (row_start[i] as usize, row_start[i + 1] as usize);
                 let (os, oe) = (self.row_start[i] as usize, self.row_start[i + 1] as usize);
                 for p in ns..ne {
-                    if let Some(q) = (os..oe).find(|&q| self.j[q] == new_j[p] && self.image[q] == new_img[p]) {
+                    if let Some(q) =
+                        (os..oe).find(|&q| self.j[q] == new_j[p] && self.image[q] == new_img[p])
+                    {
                         new_hist[p] = self.hist[q];
                     }
                 }
@@ -234,7 +247,10 @@ impl NeighborList {
     /// Forgets all pairs and history (after particles were added or removed).
     pub fn invalidate(&mut self) {
         let skin = self.skin;
-        *self = NeighborList { skin, ..Default::default() };
+        *self = NeighborList {
+            skin,
+            ..Default::default()
+        };
     }
 }
 
@@ -267,7 +283,11 @@ impl CellGrid {
                     )));
                 }
             } else {
-                let (mn, mx) = pos.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(mn, mx), x| (mn.min(x[a]), mx.max(x[a])));
+                let (mn, mx) = pos
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(mn, mx), x| {
+                        (mn.min(x[a]), mx.max(x[a]))
+                    });
                 if pos.is_empty() {
                     lo[a] = 0.0;
                     ext[a] = rc;
@@ -278,8 +298,17 @@ impl CellGrid {
             }
             n[a] = ((ext[a] / rc).floor() as usize).clamp(1, cap);
         }
-        let size = Vec3::new(ext[0] / n[0] as f64, ext[1] / n[1] as f64, ext[2] / n[2] as f64);
-        Ok(CellGrid { lo, size, n, periodic: bx.periodic })
+        let size = Vec3::new(
+            ext[0] / n[0] as f64,
+            ext[1] / n[1] as f64,
+            ext[2] / n[2] as f64,
+        );
+        Ok(CellGrid {
+            lo,
+            size,
+            n,
+            periodic: bx.periodic,
+        })
     }
 
     fn count(&self) -> usize {
@@ -323,7 +352,11 @@ impl CellGrid {
     /// Calls `f(cell, image)` for the 27 cells around `cell` in the unwrapped tiling; every (cell, image)
     /// combination is distinct even when an axis has one or two cells.
     fn for_each_neighbor_cell(&self, cell: usize, mut f: impl FnMut(usize, Image)) {
-        let c = [cell % self.n[0], (cell / self.n[0]) % self.n[1], cell / (self.n[0] * self.n[1])];
+        let c = [
+            cell % self.n[0],
+            (cell / self.n[0]) % self.n[1],
+            cell / (self.n[0] * self.n[1]),
+        ];
         for dz in -1i64..=1 {
             for dy in -1i64..=1 {
                 for dx in -1i64..=1 {

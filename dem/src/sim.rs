@@ -165,14 +165,22 @@ impl Simulation {
         self.model.validate()?;
         self.particles.validate()?;
         if self.particles.is_empty() {
-            return Err(DemError::InvalidConfig("a simulation needs at least one particle".into()));
+            return Err(DemError::InvalidConfig(
+                "a simulation needs at least one particle".into(),
+            ));
         }
         let c = &self.config;
         if !(c.global_damping.is_finite() && c.global_damping >= 0.0) {
-            return Err(DemError::InvalidConfig(format!("global_damping {} must be >= 0", c.global_damping)));
+            return Err(DemError::InvalidConfig(format!(
+                "global_damping {} must be >= 0",
+                c.global_damping
+            )));
         }
         if !(c.skin_fraction.is_finite() && c.skin_fraction >= 0.0) {
-            return Err(DemError::InvalidConfig(format!("skin_fraction {} must be >= 0", c.skin_fraction)));
+            return Err(DemError::InvalidConfig(format!(
+                "skin_fraction {} must be >= 0",
+                c.skin_fraction
+            )));
         }
         self.coef = PairCoefficients::new(&self.model);
         self.rigid = RigidIndex::new(&self.groups, &self.particles)?;
@@ -184,10 +192,16 @@ impl Simulation {
             TimeStep::Absolute(dt) => dt,
         };
         if !(self.dt.is_finite() && self.dt > 0.0) {
-            return Err(DemError::InvalidConfig(format!("time step {} must be positive", self.dt)));
+            return Err(DemError::InvalidConfig(format!(
+                "time step {} must be positive",
+                self.dt
+            )));
         }
         if self.dt > dt_c && !c.allow_supercritical_dt {
-            return Err(DemError::TimeStepAboveCritical { dt: self.dt, dt_critical: dt_c });
+            return Err(DemError::TimeStepAboveCritical {
+                dt: self.dt,
+                dt_critical: dt_c,
+            });
         }
         // c_c of eq (21), for the smallest particle.
         let i_min = (0..self.particles.len())
@@ -195,7 +209,13 @@ impl Simulation {
             .unwrap_or(0);
         let (r, m) = (self.particles.radius[i_min], self.particles.mass[i_min]);
         self.damping_coef = c.global_damping * self.model.critical_damping(r, m);
-        let d_min = 2.0 * self.particles.radius.iter().cloned().fold(f64::INFINITY, f64::min);
+        let d_min = 2.0
+            * self
+                .particles
+                .radius
+                .iter()
+                .cloned()
+                .fold(f64::INFINITY, f64::min);
         let skin = c.skin_fraction * d_min;
         if self.list.skin != skin || self.list.row_start.len() != self.particles.len() + 1 {
             let hist_kept = self.list.row_start.len() == self.particles.len() + 1;
@@ -213,7 +233,10 @@ impl Simulation {
     /// its twin; for polydisperse packings the smallest particle gives the minimum.
     pub fn critical_time_step(&self) -> f64 {
         (0..self.particles.len())
-            .map(|i| self.model.critical_time_step(self.particles.radius[i], self.particles.mass[i]))
+            .map(|i| {
+                self.model
+                    .critical_time_step(self.particles.radius[i], self.particles.mass[i])
+            })
             .fold(f64::INFINITY, f64::min)
     }
 
@@ -258,7 +281,9 @@ impl Simulation {
                 rayon::ThreadPoolBuilder::new()
                     .num_threads(n)
                     .build()
-                    .map_err(|e| DemError::InvalidConfig(format!("cannot start {n} threads: {e}")))?,
+                    .map_err(|e| {
+                        DemError::InvalidConfig(format!("cannot start {n} threads: {e}"))
+                    })?,
             )),
         };
         self.parallelism = parallelism;
@@ -344,19 +369,41 @@ impl Simulation {
         {
             let _s = tracing::trace_span!("neighbor").entered();
             if self.list.needs_rebuild(&self.particles.pos, &self.sim_box) {
-                self.list.build(&mut self.particles.pos, &self.particles.radius, &self.sim_box, &self.coef)?;
+                self.list.build(
+                    &mut self.particles.pos,
+                    &self.particles.radius,
+                    &self.sim_box,
+                    &self.coef,
+                )?;
             }
         }
         let stress_control = matches!(self.box_control, BoxControl::Stress { .. });
         let virial = self.want_virial || stress_control;
-        let phase = ForcePhase { energy: self.config.track_energy, virial, parallel };
+        let phase = ForcePhase {
+            energy: self.config.track_energy,
+            virial,
+            parallel,
+        };
         let totals = {
             let _s = tracing::trace_span!("forces").entered();
-            self.buffers.compute(phase, &self.coef, &self.particles, &self.sim_box, &mut self.list, self.dt)
+            self.buffers.compute(
+                phase,
+                &self.coef,
+                &self.particles,
+                &self.sim_box,
+                &mut self.list,
+                self.dt,
+            )
         };
         let wall_work = {
             let _s = tracing::trace_span!("walls").entered();
-            self.rigid.advance(&mut self.groups, &mut self.particles, &self.buffers.force, &self.sim_box, self.dt)
+            self.rigid.advance(
+                &mut self.groups,
+                &mut self.particles,
+                &self.buffers.force,
+                &self.sim_box,
+                self.dt,
+            )
         };
         let (kinetic, damping_power) = {
             let _s = tracing::trace_span!("integrate").entered();
@@ -400,13 +447,20 @@ impl Simulation {
                 self.deform(de, remap);
                 return Ok(());
             }
-            BoxControl::Stress { target, axes, modulus, gain, max_strain_step } => {
+            BoxControl::Stress {
+                target,
+                axes,
+                modulus,
+                gain,
+                max_strain_step,
+            } => {
                 let s = self.stress_from_virial(None);
                 let mut de = Vec3::zeros();
                 for a in 0..3 {
                     if axes[a] {
                         // Too much tension (sigma > target): shrink; too much compression: expand.
-                        de[a] = (gain * (target[a] - s[(a, a)]) / modulus).clamp(-max_strain_step, max_strain_step);
+                        de[a] = (gain * (target[a] - s[(a, a)]) / modulus)
+                            .clamp(-max_strain_step, max_strain_step);
                     }
                 }
                 de
@@ -441,7 +495,11 @@ impl Simulation {
                 && p.omega[i].iter().all(|x| x.is_finite()))
         });
         match bad {
-            Some(i) => Err(DemError::NonFinite { step: self.step, index: i, what: "position or velocity" }),
+            Some(i) => Err(DemError::NonFinite {
+                step: self.step,
+                index: i,
+                what: "position or velocity",
+            }),
             None => Ok(()),
         }
     }
@@ -450,7 +508,11 @@ impl Simulation {
     /// `volume` (the box volume when `None`): sigma = -(1/V) sum_i [ m_i v_i (x) v_i + sum_j 1/2 (x_i - x_j)
     /// (x) F_ij ]. Uses the per-particle virials of the last step that had them (see
     /// [`Simulation::request_virial`]); the kinetic part uses the current velocities.
-    pub fn virial_stress(&self, select: Option<&dyn Fn(usize) -> bool>, volume: Option<f64>) -> Matrix3<f64> {
+    pub fn virial_stress(
+        &self,
+        select: Option<&dyn Fn(usize) -> bool>,
+        volume: Option<f64>,
+    ) -> Matrix3<f64> {
         let v = volume.unwrap_or_else(|| self.sim_box.volume());
         let p = &self.particles;
         let mut acc = Matrix3::zeros();

@@ -101,7 +101,10 @@ impl Particles {
 
     /// Total volume of the spheres.
     pub fn solid_volume(&self) -> f64 {
-        self.radius.iter().map(|r| 4.0 / 3.0 * std::f64::consts::PI * r.powi(3)).sum()
+        self.radius
+            .iter()
+            .map(|r| 4.0 / 3.0 * std::f64::consts::PI * r.powi(3))
+            .sum()
     }
 
     /// Checks lengths and that every attribute is finite and physical.
@@ -129,9 +132,16 @@ impl Particles {
                 return bad(format!("mass {} must be positive", self.mass[i]));
             }
             if !(self.inertia[i].is_finite() && self.inertia[i] > 0.0) {
-                return bad(format!("moment of inertia {} must be positive", self.inertia[i]));
+                return bad(format!(
+                    "moment of inertia {} must be positive",
+                    self.inertia[i]
+                ));
             }
-            let vecs = [("position", self.pos[i]), ("velocity", self.vel[i]), ("angular velocity", self.omega[i])];
+            let vecs = [
+                ("position", self.pos[i]),
+                ("velocity", self.vel[i]),
+                ("angular velocity", self.omega[i]),
+            ];
             for (what, v) in vecs {
                 if !v.iter().all(|x| x.is_finite()) {
                     return bad(format!("{what} {v:?} is not finite"));
@@ -165,7 +175,10 @@ mod tests {
         p.push_sphere(Vec3::zeros(), 1.0, 1.0);
         assert!(p.validate().is_ok());
         p.radius[0] = -1.0;
-        assert!(matches!(p.validate(), Err(DemError::InvalidParticle { index: 0, .. })));
+        assert!(matches!(
+            p.validate(),
+            Err(DemError::InvalidParticle { index: 0, .. })
+        ));
         p.radius[0] = 1.0;
         p.vel[0].y = f64::NAN;
         assert!(p.validate().unwrap_err().to_string().contains("velocity"));

@@ -23,9 +23,17 @@ pub struct UnitSystem {
 
 impl UnitSystem {
     /// Dimensionless: every scale is one.
-    pub const REDUCED: UnitSystem = UnitSystem { length_m: 1.0, mass_kg: 1.0, time_s: 1.0 };
+    pub const REDUCED: UnitSystem = UnitSystem {
+        length_m: 1.0,
+        mass_kg: 1.0,
+        time_s: 1.0,
+    };
     /// nm, attogram, ns.
-    pub const NANO: UnitSystem = UnitSystem { length_m: 1e-9, mass_kg: 1e-21, time_s: 1e-9 };
+    pub const NANO: UnitSystem = UnitSystem {
+        length_m: 1e-9,
+        mass_kg: 1e-21,
+        time_s: 1e-9,
+    };
 
     /// SI value of one engine force unit (N).
     pub fn force_n(&self) -> f64 {
@@ -141,7 +149,8 @@ mod tests {
         // d_c = 4 gamma E / sigma^2 (paper 000 eq 18) must give 1.7 nm for silica in any unit system.
         let dc_si = 4.0 * 1.5 * 73e9 / (16e9f64 * 16e9);
         let u = UnitSystem::NANO;
-        let dc_nano = 4.0 * u.surface_energy_from_si(1.5) * u.stress_from_pa(73e9) / u.stress_from_pa(16e9).powi(2);
+        let dc_nano = 4.0 * u.surface_energy_from_si(1.5) * u.stress_from_pa(73e9)
+            / u.stress_from_pa(16e9).powi(2);
         assert!(close(u.length_to_m(dc_nano), dc_si));
         assert!((dc_si - 1.71e-9).abs() < 0.01e-9);
     }

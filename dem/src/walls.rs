@@ -46,7 +46,11 @@ impl RigidMotion {
     /// A wall moving at constant velocity.
     pub fn with_velocity(v: Vec3) -> Self {
         RigidMotion {
-            axes: [AxisControl::Velocity(v.x), AxisControl::Velocity(v.y), AxisControl::Velocity(v.z)],
+            axes: [
+                AxisControl::Velocity(v.x),
+                AxisControl::Velocity(v.y),
+                AxisControl::Velocity(v.z),
+            ],
             velocity: v,
         }
     }
@@ -64,11 +68,17 @@ pub struct Group {
 impl Group {
     /// A group of free particles.
     pub fn free(name: &str) -> Self {
-        Group { name: name.to_string(), rigid: None }
+        Group {
+            name: name.to_string(),
+            rigid: None,
+        }
     }
     /// A rigid group.
     pub fn rigid(name: &str, motion: RigidMotion) -> Self {
-        Group { name: name.to_string(), rigid: Some(motion) }
+        Group {
+            name: name.to_string(),
+            rigid: Some(motion),
+        }
     }
 }
 
@@ -85,7 +95,10 @@ impl RigidIndex {
     pub fn new(groups: &[Group], parts: &Particles) -> Result<Self> {
         for (i, &g) in parts.group.iter().enumerate() {
             if g as usize >= groups.len() {
-                return Err(DemError::InvalidParticle { index: i, reason: format!("group {g} does not exist") });
+                return Err(DemError::InvalidParticle {
+                    index: i,
+                    reason: format!("group {g} does not exist"),
+                });
             }
         }
         let mut bodies = Vec::new();
@@ -94,14 +107,21 @@ impl RigidIndex {
             if let Some(m) = &g.rigid {
                 for (a, c) in m.axes.iter().enumerate() {
                     let v = match c {
-                        AxisControl::Velocity(v) | AxisControl::Force(v) | AxisControl::Traction(v) => *v,
+                        AxisControl::Velocity(v)
+                        | AxisControl::Force(v)
+                        | AxisControl::Traction(v) => *v,
                     };
                     if !v.is_finite() {
-                        return Err(DemError::InvalidConfig(format!("group '{}' axis {a}: value {v} not finite", g.name)));
+                        return Err(DemError::InvalidConfig(format!(
+                            "group '{}' axis {a}: value {v} not finite",
+                            g.name
+                        )));
                     }
                 }
-                let members: Vec<u32> =
-                    (0..parts.len()).filter(|&i| parts.group[i] as usize == gi).map(|i| i as u32).collect();
+                let members: Vec<u32> = (0..parts.len())
+                    .filter(|&i| parts.group[i] as usize == gi)
+                    .map(|i| i as u32)
+                    .collect();
                 let mass = members.iter().map(|&i| parts.mass[i as usize]).sum();
                 for &i in &members {
                     is_rigid[i as usize] = true;
@@ -148,11 +168,20 @@ impl RigidIndex {
     }
 
     /// Advances every rigid body by one step; returns the work done on them by the outside this step.
-    pub fn advance(&self, groups: &mut [Group], parts: &mut Particles, force: &[Vec3], bx: &SimBox, dt: f64) -> f64 {
+    pub fn advance(
+        &self,
+        groups: &mut [Group],
+        parts: &mut Particles,
+        force: &[Vec3],
+        bx: &SimBox,
+        dt: f64,
+    ) -> f64 {
         let mut work = 0.0;
         let l = bx.lengths();
         for (gi, members, mass) in &self.bodies {
-            let Some(motion) = groups[*gi].rigid.as_mut() else { continue };
+            let Some(motion) = groups[*gi].rigid.as_mut() else {
+                continue;
+            };
             let mut fsum = Vec3::zeros();
             for &i in members {
                 fsum += force[i as usize];

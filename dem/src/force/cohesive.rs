@@ -15,6 +15,17 @@
 //!   a_j = r_j + delta_N / 2 add up to the centre distance, which makes the total angular momentum
 //!   (orbital + spin) exactly conserved by every pair.
 //!
+//! Decision (time discretisation of the history): the slip increment of a step is computed in the
+//! geometry of the step's midpoint: normal n_mid = (n_{k-1} + n_k)/|...| and lever arms
+//! r + delta_N,mid / 2, with the previous configuration recovered exactly as d_{k-1} = d_k + (v_i - v_j) dt
+//! (symplectic Euler moved the particles by v dt). The torques keep the current arms a_i + a_j = d, so
+//! angular momentum stays exact. Why: the continuous model is conservative (the tangential power
+//! F_T . v_T equals the rate of 1/2 k_T |delta_T|^2), but with end-of-step geometry the lever arms
+//! oscillate with the normal vibration and the first-order update pumps energy into the
+//! spin-tangential modes (an HCP crystal at 0.1 dt_c gained ~100 % of its kinetic energy in 1e5
+//! steps); with midpoint geometry the energy error stays bounded
+//! (`tests/conservation.rs::total_energy_has_no_secular_drift_over_1e5_steps`).
+//!
 //! Decision: the damping force c_T v_T is added outside the cap (the paper caps F_T only, eq 4), as in
 //! LAMMPS's granular models.
 
@@ -43,7 +54,9 @@ pub fn normal_energy(p: &PairParams, dn: f64) -> f64 {
         0.5 * p.k_n * dn * dn - w
     } else if dn <= p.delta_f {
         let (de, df) = (p.delta_e, p.delta_f);
-        0.5 * p.k_n * de * de + p.k_n * de / (df - de) * ((dn - de) * df - 0.5 * (dn * dn - de * de)) - w
+        0.5 * p.k_n * de * de
+            + p.k_n * de / (df - de) * ((dn - de) * df - 0.5 * (dn * dn - de * de))
+            - w
     } else {
         0.0
     }
@@ -56,6 +69,22 @@ pub fn tangential_cap(p: &PairParams, dn: f64) -> f64 {
         p.f_mt
     } else {
         p.f_mt * ((p.delta_f - dn) / p.delta_f).clamp(0.0, 1.0)
+    }
+}
+
+/// Removes the component of `h` along `n`, keeping its length (the spring turns with the pair).
+#[inline(always)]
+fn rotate_into_plane(h: Vec3, n: &Vec3) -> Vec3 {
+    let len2 = h.norm_squared();
+    if len2 == 0.0 {
+        return h;
+    }
+    let t = h - h.dot(n) * n;
+    let t2 = t.norm_squared();
+    if t2 > 0.0 {
+        t * (len2 / t2).sqrt()
+    } else {
+        Vec3::zeros()
     }
 }
 
@@ -125,21 +154,26 @@ pub(crate) fn pair<const TANGENTIAL: bool>(
     let vn = -v_rel.dot(&n);
     let fn_ = normal_force(&p, dn);
     let mut f = (fn_ + p.c_n * vn) * n;
-    let mut en = PairEnergy { normal: normal_energy(&p, dn), damping_power: p.c_n * vn * vn, ..Default::default() };
+    let mut en = PairEnergy {
+        normal: normal_energy(&p, dn),
+        damping_power: p.c_n * vn * vn,
+        ..Default::default()
+    };
     let mut nxf = Vec3::zeros();
     if TANGENTIAL {
         let vt = v_rel + vn * n;
-        // Keep the history in the current tangent plane, preserving its length (it rotates with the pair).
-        let mut h = *hist;
-        let len2 = h.norm_squared();
-        if len2 > 0.0 {
-            h -= h.dot(&n) * n;
-            let new2 = h.norm_squared();
-            if new2 > 0.0 {
-                h *= (len2 / new2).sqrt();
-            }
-        }
-        h += vt * dt;
+        // Slip increment over the step that just moved the particles by v dt, in the midpoint geometry
+        // (see the module docs): the previous separation is exactly d + dv dt in symplectic Euler.
+        let d_prev = inp.d + inp.dv * dt;
+        let dist_prev = d_prev.norm();
+        let n_prev = d_prev / dist_prev;
+        let n_mid = (n + n_prev).normalize();
+        let half_gap_mid = 0.25 * (dist + dist_prev - 2.0 * (inp.ri + inp.rj));
+        let v_rel_mid = inp.dv
+            + ((inp.ri + half_gap_mid) * inp.wi + (inp.rj + half_gap_mid) * inp.wj).cross(&n_mid);
+        let v_mid = v_rel_mid - v_rel_mid.dot(&n_mid) * n_mid;
+        let mut h = rotate_into_plane(*hist, &n_mid) + v_mid * dt;
+        h = rotate_into_plane(h, &n);
         let cap = tangential_cap(&p, dn);
         let spring2 = p.k_t * p.k_t * h.norm_squared();
         if spring2 > cap * cap {
@@ -188,7 +222,10 @@ mod tests {
             acc += normal_force(&p, x) * h;
         }
         let exact = normal_energy(&p, b) - normal_energy(&p, a);
-        assert!((acc - exact).abs() < 1e-6 * p.bond_energy(), "{acc} vs {exact}");
+        assert!(
+            (acc - exact).abs() < 1e-6 * p.bond_energy(),
+            "{acc} vs {exact}"
+        );
     }
 
     #[test]

@@ -66,9 +66,15 @@ impl ForceBuffers {
             let _s = tracing::trace_span!("pairs", np).entered();
             match (coef.tangential, phase.energy) {
                 (true, true) => self.pairs::<true, true>(phase.parallel, coef, parts, bx, list, dt),
-                (true, false) => self.pairs::<true, false>(phase.parallel, coef, parts, bx, list, dt),
-                (false, true) => self.pairs::<false, true>(phase.parallel, coef, parts, bx, list, dt),
-                (false, false) => self.pairs::<false, false>(phase.parallel, coef, parts, bx, list, dt),
+                (true, false) => {
+                    self.pairs::<true, false>(phase.parallel, coef, parts, bx, list, dt)
+                }
+                (false, true) => {
+                    self.pairs::<false, true>(phase.parallel, coef, parts, bx, list, dt)
+                }
+                (false, false) => {
+                    self.pairs::<false, false>(phase.parallel, coef, parts, bx, list, dt)
+                }
             }
         }
         {
@@ -148,7 +154,8 @@ impl ForceBuffers {
                     fi += o.f;
                     ti += o.ai * o.nxf;
                 }
-                for &p in &list.rev_pair[list.rev_start[i] as usize..list.rev_start[i + 1] as usize] {
+                for &p in &list.rev_pair[list.rev_start[i] as usize..list.rev_start[i + 1] as usize]
+                {
                     let o = &out[p as usize];
                     fi -= o.f;
                     ti += o.aj * o.nxf;
@@ -168,7 +175,13 @@ impl ForceBuffers {
         }
     }
 
-    fn gather_virial(&mut self, parallel: bool, parts: &Particles, bx: &SimBox, list: &NeighborList) {
+    fn gather_virial(
+        &mut self,
+        parallel: bool,
+        parts: &Particles,
+        bx: &SimBox,
+        list: &NeighborList,
+    ) {
         let n = parts.len();
         self.virial.resize(n, Matrix3::zeros());
         let out = &self.out;
@@ -185,14 +198,18 @@ impl ForceBuffers {
                 for p in list.row_start[i] as usize..list.row_start[i + 1] as usize {
                     acc += half_pair(p);
                 }
-                for &p in &list.rev_pair[list.rev_start[i] as usize..list.rev_start[i + 1] as usize] {
+                for &p in &list.rev_pair[list.rev_start[i] as usize..list.rev_start[i + 1] as usize]
+                {
                     acc += half_pair(p as usize);
                 }
                 w[k] = acc;
             }
         };
         if parallel {
-            self.virial.par_chunks_mut(PARTICLE_CHUNK).enumerate().for_each(|(c, w)| run(c * PARTICLE_CHUNK, w));
+            self.virial
+                .par_chunks_mut(PARTICLE_CHUNK)
+                .enumerate()
+                .for_each(|(c, w)| run(c * PARTICLE_CHUNK, w));
         } else {
             run(0, &mut self.virial);
         }

@@ -59,10 +59,20 @@ impl Simulation {
         if cp.version != VERSION {
             return Err(DemError::Format {
                 path: "<checkpoint>".into(),
-                reason: format!("checkpoint version {} but this build reads {VERSION}", cp.version),
+                reason: format!(
+                    "checkpoint version {} but this build reads {VERSION}",
+                    cp.version
+                ),
             });
         }
-        let mut sim = Simulation::new(cp.particles, cp.sim_box, cp.model, cp.groups, cp.config, parallelism)?;
+        let mut sim = Simulation::new(
+            cp.particles,
+            cp.sim_box,
+            cp.model,
+            cp.groups,
+            cp.config,
+            parallelism,
+        )?;
         sim.set_box_control(cp.box_control)?;
         let n = sim.particles.len();
         if cp.list.row_start.len() == n + 1 {
@@ -76,7 +86,10 @@ impl Simulation {
 
     /// Writes a checkpoint atomically (temporary file, then rename).
     pub fn save_checkpoint(&self, path: &Path) -> Result<()> {
-        write_atomic(path, &serde_json::to_vec(&self.checkpoint()).map_err(|e| format_err(path, e))?)
+        write_atomic(
+            path,
+            &serde_json::to_vec(&self.checkpoint()).map_err(|e| format_err(path, e))?,
+        )
     }
 
     /// Reads a checkpoint written by [`Simulation::save_checkpoint`].
@@ -88,7 +101,10 @@ impl Simulation {
 }
 
 fn format_err(path: &Path, e: serde_json::Error) -> DemError {
-    DemError::Format { path: path.display().to_string(), reason: e.to_string() }
+    DemError::Format {
+        path: path.display().to_string(),
+        reason: e.to_string(),
+    }
 }
 
 /// Writes `bytes` to `path` through a temporary sibling and a rename.

@@ -12,7 +12,11 @@ pub fn append_frame(sim: &Simulation, path: &Path) -> Result<()> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| DemError::io(dir, e))?;
     }
-    let file = std::fs::OpenOptions::new().create(true).append(true).open(path).map_err(|e| DemError::io(path, e))?;
+    let file = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(path)
+        .map_err(|e| DemError::io(path, e))?;
     let mut w = std::io::BufWriter::new(file);
     write_frame(sim, &mut w).map_err(|e| DemError::io(path, e))?;
     w.flush().map_err(|e| DemError::io(path, e))
@@ -24,12 +28,19 @@ pub fn write_frame(sim: &Simulation, w: &mut impl Write) -> std::io::Result<()> 
     let b = &sim.sim_box;
     writeln!(w, "ITEM: TIMESTEP\n{}", sim.step_count())?;
     writeln!(w, "ITEM: NUMBER OF ATOMS\n{}", p.len())?;
-    let flags: Vec<&str> = b.periodic.iter().map(|&q| if q { "pp" } else { "ff" }).collect();
+    let flags: Vec<&str> = b
+        .periodic
+        .iter()
+        .map(|&q| if q { "pp" } else { "ff" })
+        .collect();
     writeln!(w, "ITEM: BOX BOUNDS {} {} {}", flags[0], flags[1], flags[2])?;
     for a in 0..3 {
         writeln!(w, "{:.17e} {:.17e}", b.lo[a], b.hi[a])?;
     }
-    writeln!(w, "ITEM: ATOMS id type x y z radius vx vy vz omegax omegay omegaz")?;
+    writeln!(
+        w,
+        "ITEM: ATOMS id type x y z radius vx vy vz omegax omegay omegaz"
+    )?;
     for i in 0..p.len() {
         let (x, v, o) = (p.pos[i], p.vel[i], p.omega[i]);
         writeln!(

@@ -11,25 +11,42 @@ use crate::state::Particles;
 use crate::Vec3;
 
 /// An HCP block of `nx * ny * nz` spheres of diameter `d` and density `rho`, with its periodic box.
-pub fn hcp_lattice(nx: usize, ny: usize, nz: usize, d: f64, rho: f64, periodic: [bool; 3]) -> Result<(Particles, SimBox)> {
+pub fn hcp_lattice(
+    nx: usize,
+    ny: usize,
+    nz: usize,
+    d: f64,
+    rho: f64,
+    periodic: [bool; 3],
+) -> Result<(Particles, SimBox)> {
     if nx == 0 || ny == 0 || nz == 0 || ny % 2 == 1 || nz % 2 == 1 {
         return Err(DemError::InvalidConfig(format!(
             "HCP lattice needs nx >= 1 and even ny, nz >= 2 (got {nx} x {ny} x {nz})"
         )));
     }
     if !(d.is_finite() && d > 0.0 && rho.is_finite() && rho > 0.0) {
-        return Err(DemError::InvalidConfig(format!("HCP diameter {d} and density {rho} must be positive")));
+        return Err(DemError::InvalidConfig(format!(
+            "HCP diameter {d} and density {rho} must be positive"
+        )));
     }
     let dy = d * 3f64.sqrt() / 2.0;
     let dz = d * (2.0f64 / 3.0).sqrt();
     let mut p = Particles::with_capacity(nx * ny * nz);
     for k in 0..nz {
         // B layers sit over the centroids of A triangles.
-        let (ox, oy) = if k % 2 == 0 { (0.0, 0.0) } else { (0.5 * d, d / (2.0 * 3f64.sqrt())) };
+        let (ox, oy) = if k % 2 == 0 {
+            (0.0, 0.0)
+        } else {
+            (0.5 * d, d / (2.0 * 3f64.sqrt()))
+        };
         for j in 0..ny {
             let row_x = if j % 2 == 0 { 0.0 } else { 0.5 * d };
             for i in 0..nx {
-                let x = Vec3::new((i as f64 + 0.25) * d + row_x + ox, (j as f64 + 0.25) * dy + oy, (k as f64 + 0.5) * dz);
+                let x = Vec3::new(
+                    (i as f64 + 0.25) * d + row_x + ox,
+                    (j as f64 + 0.25) * dy + oy,
+                    (k as f64 + 0.5) * dz,
+                );
                 p.push_sphere(x, 0.5 * d, rho);
             }
         }
@@ -53,11 +70,17 @@ pub fn hcp_lattice(nx: usize, ny: usize, nz: usize, d: f64, rho: f64, periodic: 
 /// and layers rounded to even numbers (at least 2), cells to at least 1.
 pub fn counts_for(lengths: Vec3, d: f64) -> Result<(usize, usize, usize)> {
     if !(d.is_finite() && d > 0.0 && lengths.iter().all(|l| l.is_finite() && *l > 0.0)) {
-        return Err(DemError::InvalidConfig(format!("HCP block {lengths:?} of diameter {d} must be positive")));
+        return Err(DemError::InvalidConfig(format!(
+            "HCP block {lengths:?} of diameter {d} must be positive"
+        )));
     }
     let even = |x: f64| (2.0 * (0.5 * x).round()).max(2.0) as usize;
     let nx = (lengths.x / d).round().max(1.0) as usize;
-    Ok((nx, even(lengths.y / (d * 3f64.sqrt() / 2.0)), even(lengths.z / (d * (2.0f64 / 3.0).sqrt()))))
+    Ok((
+        nx,
+        even(lengths.y / (d * 3f64.sqrt() / 2.0)),
+        even(lengths.z / (d * (2.0f64 / 3.0).sqrt())),
+    ))
 }
 
 #[cfg(test)]
@@ -83,14 +106,20 @@ mod tests {
                 assert!(r > 1.0 - 1e-9, "overlap {r}");
             }
             assert_eq!(touching, 12, "particle {i}");
-            assert!((next - 2f64.sqrt()).abs() < 1e-9, "second shell at sqrt 2: {next}");
+            assert!(
+                (next - 2f64.sqrt()).abs() < 1e-9,
+                "second shell at sqrt 2: {next}"
+            );
         }
     }
 
     #[test]
     fn counts_for_the_papers_slab() {
         // L = 25 d0, W = 3 d0 (paper 000 section 3.1): 25 cells, 28 rows, 4 layers.
-        assert_eq!(counts_for(Vec3::new(25.0, 25.0, 3.0), 1.0).unwrap(), (25, 28, 4));
+        assert_eq!(
+            counts_for(Vec3::new(25.0, 25.0, 3.0), 1.0).unwrap(),
+            (25, 28, 4)
+        );
         assert!(counts_for(Vec3::new(1.0, -1.0, 1.0), 1.0).is_err());
     }
 }

@@ -1,0 +1,214 @@
+//! The neighbour list against a brute-force O(N^2) search over periodic images, for random polydisperse
+//! configurations in periodic (including slabs thinner than two interaction ranges) and open boxes.
+
+use std::collections::BTreeSet;
+
+use dem::neighbor::{Image, NeighborList, PairRange};
+use dem::{SimBox, Vec3};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// A cutoff that, like the cohesive law, grows with the radii: r_i + r_j + 0.3 min(r_i, r_j).
+struct Range;
+impl PairRange for Range {
+    fn cutoff(&self, ri: f64, rj: f64) -> f64 {
+        ri + rj + 0.3 * ri.min(rj)
+    }
+    fn max_cutoff(&self, r_max: f64) -> f64 {
+        2.6 * r_max
+    }
+}
+
+fn brute_force(
+    pos: &[Vec3],
+    radius: &[f64],
+    bx: &SimBox,
+    skin: f64,
+) -> BTreeSet<(u32, u32, Image)> {
+    let mut set = BTreeSet::new();
+    let reach = |a: usize| if bx.periodic[a] { -2i8..=2 } else { 0i8..=0 };
+    for i in 0..pos.len() {
+        for j in i..pos.len() {
+            for sx in reach(0) {
+                for sy in reach(1) {
+                    for sz in reach(2) {
+                        let s = [sx, sy, sz];
+                        if i == j && s <= [0, 0, 0] {
+                            continue;
+                        }
+                        let d = pos[j] + bx.shift(s) - pos[i];
+                        let cut = Range.cutoff(radius[i], radius[j]) + skin;
+                        if d.norm() < cut {
+                            set.insert((i as u32, j as u32, s));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    set
+}
+
+fn listed(list: &NeighborList) -> BTreeSet<(u32, u32, Image)> {
+    (0..list.len())
+        .map(|p| (list.i[p], list.j[p], list.image[p]))
+        .collect()
+}
+
+fn random_system(
+    rng: &mut ChaCha8Rng,
+    n: usize,
+    lengths: Vec3,
+    periodic: [bool; 3],
+) -> (Vec<Vec3>, Vec<f64>, SimBox) {
+    let bx = SimBox::new(Vec3::zeros(), lengths, periodic).unwrap();
+    let pos = (0..n)
+        .map(|_| {
+            Vec3::new(
+                rng.gen_range(0.0..lengths.x),
+                rng.gen_range(0.0..lengths.y),
+                rng.gen_range(0.0..lengths.z),
+            )
+        })
+        .collect();
+    let radius = (0..n).map(|_| rng.gen_range(0.375..0.625)).collect();
+    (pos, radius, bx)
+}
+
+#[test]
+fn list_matches_brute_force_in_many_random_boxes() {
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let cases = [
+        (Vec3::new(8.0, 8.0, 8.0), [true, true, true]),
+        (Vec3::new(10.0, 10.0, 3.0), [true, true, true]), // the papers' L x L x 3 d0 slab
+        (Vec3::new(6.0, 1.7, 6.0), [true, true, false]),  // one cell across, self-images
+        (Vec3::new(9.0, 7.0, 5.0), [false, false, false]),
+        (Vec3::new(9.0, 7.0, 3.0), [true, false, true]),
+    ];
+    for (case, (lengths, periodic)) in cases.iter().enumerate() {
+        for trial in 0..5 {
+            let n = rng.gen_range(20..250);
+            let (mut pos, radius, bx) = random_system(&mut rng, n, *lengths, *periodic);
+            let skin = 0.1;
+            let mut list = NeighborList::new(skin).unwrap();
+            list.build(&mut pos, &radius, &bx, &Range).unwrap();
+            let want = brute_force(&pos, &radius, &bx, skin);
+            assert_eq!(listed(&list), want, "case {case} trial {trial}: n = {n}");
+            // Move everything (across boundaries too) and rebuild: still exact.
+            for x in pos.iter_mut() {
+                *x += Vec3::new(
+                    rng.gen_range(-1.0..1.0),
+                    rng.gen_range(-1.0..1.0),
+                    rng.gen_range(-1.0..1.0),
+                );
+            }
+            list.build(&mut pos, &radius, &bx, &Range).unwrap();
+            assert_eq!(
+                listed(&list),
+                brute_force(&pos, &radius, &bx, skin),
+                "case {case} trial {trial} after moves"
+            );
+            // Reverse index covers each pair once, by its second particle.
+            let mut seen = vec![0u32; list.len()];
+            for j in 0..n {
+                for &p in &list.rev_pair[list.rev_start[j] as usize..list.rev_start[j + 1] as usize]
+                {
+                    assert_eq!(list.j[p as usize] as usize, j);
+                    seen[p as usize] += 1;
+                }
+            }
+            assert!(seen.iter().all(|&c| c == 1));
+        }
+    }
+}
+
+#[test]
+fn without_rebuild_the_list_still_covers_every_interacting_pair() {
+    // The displacement criterion: while needs_rebuild() is false, no pair within the cutoff is missing.
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let (mut pos, radius, bx) =
+        random_system(&mut rng, 200, Vec3::new(8.0, 8.0, 4.0), [true, true, true]);
+    let skin = 0.2;
+    let mut list = NeighborList::new(skin).unwrap();
+    list.build(&mut pos, &radius, &bx, &Range).unwrap();
+    let mut checked = 0;
+    for _ in 0..200 {
+        let trial: Vec<Vec3> = pos
+            .iter()
+            .map(|x| x + Vec3::new(rng.gen_range(-0.06..0.06), rng.gen_range(-0.06..0.06), 0.0))
+            .collect();
+        if list.needs_rebuild(&trial, &bx) {
+            break;
+        }
+        pos = trial;
+        let present = listed(&list);
+        for pair in brute_force(&pos, &radius, &bx, 0.0) {
+            assert!(
+                present.contains(&pair),
+                "pair {pair:?} interacts but is not listed"
+            );
+        }
+        checked += 1;
+    }
+    assert!(checked > 0);
+}
+
+#[test]
+fn history_follows_pairs_across_rebuilds_and_wraps() {
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let (mut pos, radius, bx) =
+        random_system(&mut rng, 150, Vec3::new(7.0, 7.0, 3.0), [true, true, true]);
+    let mut list = NeighborList::new(0.3).unwrap();
+    list.build(&mut pos, &radius, &bx, &Range).unwrap();
+    // Tag each pair's history with its identity, in unwrapped terms: x_j + s L - x_i.
+    let tag = |pos: &[Vec3], list: &NeighborList, p: usize| {
+        pos[list.j[p] as usize] + bx.shift(list.image[p]) - pos[list.i[p] as usize]
+    };
+    for p in 0..list.len() {
+        list.hist[p] = tag(&pos, &list, p);
+    }
+    // Translate everything by most of a box (all particles wrap), then rebuild.
+    let t = Vec3::new(5.3, -4.1, 2.2);
+    for x in pos.iter_mut() {
+        *x += t;
+    }
+    list.build(&mut pos, &radius, &bx, &Range).unwrap();
+    let mut carried = 0;
+    for p in 0..list.len() {
+        let sep = tag(&pos, &list, p);
+        if list.hist[p] != Vec3::zeros() {
+            assert!(
+                (list.hist[p] - sep).norm() < 1e-9,
+                "pair {p}: history {:?} belongs to {:?}",
+                list.hist[p],
+                sep
+            );
+            carried += 1;
+        }
+    }
+    assert_eq!(
+        carried,
+        list.len(),
+        "every pair persisted, so every history must have been carried"
+    );
+}
+
+#[test]
+fn boxes_thinner_than_one_range_are_refused() {
+    let bx = SimBox::new(
+        Vec3::zeros(),
+        Vec3::new(10.0, 10.0, 0.5),
+        [true, true, true],
+    )
+    .unwrap();
+    let mut pos = vec![Vec3::new(1.0, 1.0, 0.2)];
+    let err = NeighborList::new(0.1)
+        .unwrap()
+        .build(&mut pos, &[0.5], &bx, &Range)
+        .unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("shorter than one interaction range"),
+        "{err}"
+    );
+}
