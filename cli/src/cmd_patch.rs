@@ -114,3 +114,48 @@ pub fn run_sample(args: SampleArgs, threads: usize) -> Result<()> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn configs() -> PathBuf {
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../configs")
+    }
+
+    #[test]
+    fn shipped_configs_parse() {
+        for entry in std::fs::read_dir(configs()).unwrap() {
+            let path = entry.unwrap().path();
+            let name = path.file_name().unwrap().to_string_lossy().to_string();
+            if name.starts_with("patch-") {
+                read_toml::<PatchSuite>(&path).unwrap();
+            } else if name.starts_with("sample-") {
+                read_toml::<SampleConfig>(&path).unwrap();
+            }
+        }
+    }
+
+    #[test]
+    fn bad_configs_are_errors_not_panics() {
+        let dir = std::env::temp_dir().join(format!("cgdem_patch_cfg_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let bad = dir.join("bad.toml");
+        std::fs::write(
+            &bad,
+            "[sample]\nkind = \"hcp\"\nd0_over_dc = 0.6\nl_over_d0 = 8.0\nw_over_d0 = 3.0\ncolour = 1\n",
+        )
+        .unwrap();
+        assert!(read_toml::<PatchSuite>(&bad).is_err(), "unknown field");
+        assert!(read_toml::<PatchSuite>(&dir.join("missing.toml")).is_err());
+        // Parses, but the sample is too thin for two walls: an error from the run.
+        std::fs::write(
+            &bad,
+            "tests = [\"elastic\"]\n[sample]\nkind = \"hcp\"\nd0_over_dc = 0.6\nl_over_d0 = 2.0\nw_over_d0 = 3.0\n",
+        )
+        .unwrap();
+        let out = dir.join("out");
+        assert!(run(PatchArgs { config: bad.clone(), out }, 1).is_err());
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}

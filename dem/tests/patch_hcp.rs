@@ -10,7 +10,12 @@ use dem::{Material, PairModel, Parallelism, Vec3};
 
 fn hcp(mat: &Material, d0_over_dc: f64, l_over_d0: f64) -> Sample {
     let d0 = d0_over_dc * mat.critical_diameter();
-    Sample::hcp(Vec3::new(l_over_d0 * d0, l_over_d0 * d0, 3.0 * d0), d0, mat.density).unwrap()
+    Sample::hcp(
+        Vec3::new(l_over_d0 * d0, l_over_d0 * d0, 3.0 * d0),
+        d0,
+        mat.density,
+    )
+    .unwrap()
 }
 
 #[test]
@@ -18,15 +23,31 @@ fn hcp_young_modulus_and_poisson_ratio_within_12_percent() {
     for nu in [0.0, 0.1, 0.15, 0.2, 0.25] {
         let mat = Material::table4(nu);
         let sample = hcp(&mat, 0.6, 25.0);
-        let r =
-            elastic(&sample, &PairModel::cohesive(mat), &ElasticConfig::default(), Parallelism::Sequential).unwrap();
+        let r = elastic(
+            &sample,
+            &PairModel::cohesive(mat),
+            &ElasticConfig::default(),
+            Parallelism::Sequential,
+        )
+        .unwrap();
         assert!(r.converged, "nu {nu}: {r:?}");
         let e_err = (r.young_modulus - 1.0).abs();
         // Relative error in nu; at nu = 0 the absolute error, on the same 12 % scale of 0.1.
         let nu_err = (r.poisson_ratio - nu).abs() / nu.max(0.1);
-        println!("nu {nu}: E {:.4} nu {:.4} ({} steps)", r.young_modulus, r.poisson_ratio, r.steps);
-        assert!(e_err < 0.12, "nu {nu}: E {} off by more than 12 %", r.young_modulus);
-        assert!(nu_err < 0.12, "nu {nu}: measured nu {} off by more than 12 %", r.poisson_ratio);
+        println!(
+            "nu {nu}: E {:.4} nu {:.4} ({} steps)",
+            r.young_modulus, r.poisson_ratio, r.steps
+        );
+        assert!(
+            e_err < 0.12,
+            "nu {nu}: E {} off by more than 12 %",
+            r.young_modulus
+        );
+        assert!(
+            nu_err < 0.12,
+            "nu {nu}: measured nu {} off by more than 12 %",
+            r.poisson_ratio
+        );
         // The paper's trend: the error is smallest at nu = 0 and largest at 1/4.
         if nu == 0.0 {
             assert!(e_err < 0.02 && nu_err < 0.02, "{r:?}");
@@ -39,9 +60,22 @@ fn hcp_tensile_strength_within_5_percent_at_nu_0_and_fracture_energy() {
     let mat = Material::table4(0.0);
     let sample = hcp(&mat, 0.6, 10.0);
     let cfg = StrengthConfig::paper(StrengthMode::Tensile);
-    let r = strength(&sample, &PairModel::cohesive(mat), &cfg, Parallelism::Sequential).unwrap();
-    println!("tensile {:.4} (target 0.2) at strain {:.4}, {:?}", r.strength, r.strain_at_peak, r.fracture);
-    assert!((r.ratio - 1.0).abs() < 0.05, "tensile strength {} vs 0.2", r.strength);
+    let r = strength(
+        &sample,
+        &PairModel::cohesive(mat),
+        &cfg,
+        Parallelism::Sequential,
+    )
+    .unwrap();
+    println!(
+        "tensile {:.4} (target 0.2) at strain {:.4}, {:?}",
+        r.strength, r.strain_at_peak, r.fracture
+    );
+    assert!(
+        (r.ratio - 1.0).abs() < 0.05,
+        "tensile strength {} vs 0.2",
+        r.strength
+    );
     let f = r.fracture.unwrap();
     assert!(f.separated, "{f:?}");
     // Breaking every bond across a plane costs 2 gamma A_N per bond (eqs A.31-A.34): the measured
@@ -61,8 +95,17 @@ fn strength_vs_d0(s: f64, mode: StrengthMode) -> (Vec<f64>, Vec<f64>) {
         let mut mat = Material::table4(0.0);
         mat.scaling = s;
         let sample = hcp(&mat, d0, 8.0);
-        let r = strength(&sample, &PairModel::cohesive(mat), &cfg, Parallelism::Sequential).unwrap();
-        println!("s {s} {mode:?} d0 {d0} d_c: {:.4} target {:.4} ratio {:.3}", r.strength, r.target_strength, r.ratio);
+        let r = strength(
+            &sample,
+            &PairModel::cohesive(mat),
+            &cfg,
+            Parallelism::Sequential,
+        )
+        .unwrap();
+        println!(
+            "s {s} {mode:?} d0 {d0} d_c: {:.4} target {:.4} ratio {:.3}",
+            r.strength, r.target_strength, r.ratio
+        );
         values.push(r.strength);
         ratios.push(r.ratio);
     }
@@ -71,7 +114,9 @@ fn strength_vs_d0(s: f64, mode: StrengthMode) -> (Vec<f64>, Vec<f64>) {
 
 /// Above d_c with s = 0 the model is scale-free (delta_f = delta_e ~ d, k ~ d), so the strengths are flat.
 fn assert_flat_above_dc(values: &[f64]) {
-    let (lo, hi) = values[1..].iter().fold((f64::INFINITY, 0.0f64), |a, &v| (a.0.min(v), a.1.max(v)));
+    let (lo, hi) = values[1..]
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |a, &v| (a.0.min(v), a.1.max(v)));
     assert!(hi / lo < 1.01, "{values:?}");
 }
 
@@ -107,4 +152,34 @@ fn hcp_shear_strength_falls_with_d0_for_s_half() {
     assert!(values.windows(2).all(|w| w[1] < w[0]), "{values:?}");
     assert!(values[3] < 0.7 * values[1], "{values:?}");
     assert!(ratios[3] < 3.5, "{ratios:?}");
+}
+
+#[test]
+fn bad_patch_inputs_are_errors() {
+    let mat = Material::table4(0.1);
+    let model = PairModel::cohesive(mat.clone());
+    let par = Parallelism::Sequential;
+    // Too thin for two walls and a free part.
+    let thin = hcp(&mat, 0.6, 2.0);
+    assert!(elastic(&thin, &model, &ElasticConfig::default(), par).is_err());
+    let sample = hcp(&mat, 0.6, 6.0);
+    let bad = ElasticConfig {
+        stress: -0.01,
+        ..ElasticConfig::default()
+    };
+    assert!(elastic(&sample, &model, &bad, par).is_err());
+    let bad = StrengthConfig {
+        strain_rate: f64::NAN,
+        ..StrengthConfig::paper(StrengthMode::Tensile)
+    };
+    assert!(strength(&sample, &model, &bad, par).is_err());
+    let mut bad_model = model.clone();
+    bad_model.scale.k_n = 0.0;
+    assert!(strength(
+        &sample,
+        &bad_model,
+        &StrengthConfig::paper(StrengthMode::Shear),
+        par
+    )
+    .is_err());
 }
