@@ -308,8 +308,15 @@ pub fn bench(a: BenchMdArgs) -> Result<()> {
     );
     println!("bridge (s): {}", fmt(&r.bridge_seconds));
     println!("lmp    (s): {}", fmt(&r.lmp_seconds));
+    println!("bridge cpu (s): {}", fmt(&r.bridge_cpu_seconds));
+    println!("lmp    cpu (s): {}", fmt(&r.lmp_cpu_seconds));
     println!(
-        "ratio bridge/lmp (best of each): {:.4} ({:+.2} %)",
+        "cpu ratio bridge/lmp (best of each): {:.4} ({:+.2} %)",
+        r.cpu_ratio,
+        (r.cpu_ratio - 1.0) * 100.0
+    );
+    println!(
+        "wall ratio bridge/lmp (best of each): {:.4} ({:+.2} %)",
         r.ratio,
         (r.ratio - 1.0) * 100.0
     );
