@@ -1,5 +1,6 @@
 //! `cgdem`: the workbench binary. One subcommand per pipeline stage; each lives in its own module.
 
+mod cmd_bench;
 mod cmd_doctor;
 mod cmd_md;
 mod cmd_patch;
@@ -32,6 +33,8 @@ enum Command {
     MdWorker(cmd_md::WorkerArgs),
     /// Bridge overhead: the same LAMMPS input through the embedded bridge and through `lmp`.
     BenchMd(cmd_md::BenchMdArgs),
+    /// DEM throughput (particle-steps/s at 1 and 2 threads) and the ratio against LAMMPS.
+    Bench(cmd_bench::BenchArgs),
     /// Patch tests (paper 000 section 3): `cgdem patch configs/patch-hcp.toml --out DIR`.
     Patch(cmd_patch::PatchArgs),
     /// Make and save one sample (HCP or relaxed amorphous): `cgdem sample CONFIG --out FILE`.
@@ -52,6 +55,7 @@ fn main() -> Result<()> {
         Command::Md(a) => cmd_md::run(a),
         Command::MdWorker(a) => cmd_md::worker(a),
         Command::BenchMd(a) => cmd_md::bench(a),
+        Command::Bench(a) => cmd_bench::run(a),
         Command::Patch(a) => cmd_patch::run(a, cli.threads),
         Command::Sample(a) => cmd_patch::run_sample(a, cli.threads),
     }

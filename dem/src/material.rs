@@ -379,6 +379,7 @@ pub(crate) struct PairCoefficients {
     scale_de: f64,
     scale_df: f64,
     damp: f64,
+    ct_over_cn: f64,
     cohesion: bool,
     pub tangential: bool,
 }
@@ -407,6 +408,11 @@ impl PairCoefficients {
             scale_de: model.scale.delta_e,
             scale_df: model.scale.delta_f,
             damp: model.damping_factor(),
+            ct_over_cn: if tangential && at > 0.0 {
+                (at * model.scale.k_t / (an * model.scale.k_n)).sqrt()
+            } else {
+                0.0
+            },
             cohesion: model.interactions.cohesion,
             tangential,
         }
@@ -451,9 +457,15 @@ impl PairCoefficients {
         let d = ri + rj;
         let reff = ri.min(rj);
         let r2 = reff * reff;
-        let k_n = self.kn_coef * r2 / d;
-        let k_t = self.kt_coef * r2 / d;
-        let m_eff = mi * mj / (mi + mj);
+        let r2_over_d = r2 / d;
+        let k_n = self.kn_coef * r2_over_d;
+        let k_t = self.kt_coef * r2_over_d;
+        // c_T / c_N = sqrt(k_T / k_N) is a material constant: one square root per pair, none undamped.
+        let c_n = if self.damp == 0.0 {
+            0.0
+        } else {
+            self.damp * (k_n * (mi * mj / (mi + mj))).sqrt()
+        };
         let (delta_e, delta_f) = if self.cohesion {
             let df = self.raw_delta_f(d);
             let de = d * self.strain_e * self.scale_de;
@@ -467,8 +479,8 @@ impl PairCoefficients {
             delta_e,
             delta_f,
             f_mt: self.fmt_coef * r2,
-            c_n: self.damp * (k_n * m_eff).sqrt(),
-            c_t: self.damp * (k_t * m_eff).sqrt(),
+            c_n,
+            c_t: c_n * self.ct_over_cn,
         }
     }
 }

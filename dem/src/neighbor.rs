@@ -86,16 +86,24 @@ impl NeighborList {
     }
 
     /// Whether the particles or the box have moved enough since the last build to need a new list.
-    pub fn needs_rebuild(&self, pos: &[Vec3], bx: &SimBox) -> bool {
+    pub fn needs_rebuild(&self, pos: &[Vec3], bx: &SimBox, parallel: bool) -> bool {
         if self.ref_pos.len() != pos.len() || self.row_start.len() != pos.len() + 1 {
             return true;
         }
-        let max_d2 = pos
-            .par_iter()
-            .with_min_len(4096)
-            .zip(self.ref_pos.par_iter())
-            .map(|(a, b)| (a - b).norm_squared())
-            .reduce(|| 0.0, f64::max);
+        let d2 = |(a, b): (&Vec3, &Vec3)| (a - b).norm_squared();
+        // max is exact in any order, so both branches agree.
+        let max_d2 = if parallel {
+            pos.par_iter()
+                .with_min_len(4096)
+                .zip(self.ref_pos.par_iter())
+                .map(d2)
+                .reduce(|| 0.0, f64::max)
+        } else {
+            pos.iter()
+                .zip(self.ref_pos.iter())
+                .map(d2)
+                .fold(0.0, f64::max)
+        };
         let dl = (bx.lengths() - self.ref_lengths).norm();
         2.0 * max_d2.sqrt() + dl > self.skin
     }
@@ -108,6 +116,18 @@ impl NeighborList {
         radius: &[f64],
         bx: &SimBox,
         range: &impl PairRange,
+    ) -> Result<()> {
+        self.build_with(pos, radius, bx, range, true)
+    }
+
+    /// [`NeighborList::build`], on the current rayon pool when `parallel`, else on this thread only.
+    pub fn build_with(
+        &mut self,
+        pos: &mut [Vec3],
+        radius: &[f64],
+        bx: &SimBox,
+        range: &impl PairRange,
+        parallel: bool,
     ) -> Result<()> {
         let n = pos.len();
         let _span = tracing::trace_span!("neighbor_build", n).entered();
@@ -147,35 +167,38 @@ impl NeighborList {
         // Each particle's row, built in parallel and concatenated in particle order.
         const CHUNK: usize = 512;
         let skin = self.skin;
-        let rows: Vec<Vec<(u32, u32, Image)>> = (0..n.div_ceil(CHUNK))
-            .into_par_iter()
-            .map(|c| {
-                let mut out = Vec::new();
-                let mut row: Vec<(u32, Image)> = Vec::new();
-                for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
-                    row.clear();
-                    let ci = grid.cell_of(&pos[i]);
-                    grid.for_each_neighbor_cell(ci, |cell, img| {
-                        let shift = bx.shift(img);
-                        let (s, e) = (cell_start[cell] as usize, cell_start[cell + 1] as usize);
-                        for &j in &cell_particles[s..e] {
-                            let j = j as usize;
-                            if j < i || (j == i && !positive_image(img)) {
-                                continue;
-                            }
-                            let d = pos[j] + shift - pos[i];
-                            let cut = range.cutoff(radius[i], radius[j]) + skin;
-                            if d.norm_squared() < cut * cut {
-                                row.push((j as u32, img));
-                            }
+        let row_chunk = |c: usize| {
+            let mut out = Vec::new();
+            let mut row: Vec<(u32, Image)> = Vec::new();
+            for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                row.clear();
+                let ci = grid.cell_of(&pos[i]);
+                grid.for_each_neighbor_cell(ci, |cell, img| {
+                    let shift = bx.shift(img);
+                    let (s, e) = (cell_start[cell] as usize, cell_start[cell + 1] as usize);
+                    for &j in &cell_particles[s..e] {
+                        let j = j as usize;
+                        if j < i || (j == i && !positive_image(img)) {
+                            continue;
                         }
-                    });
-                    row.sort_unstable_by_key(|&(j, img)| (j, img));
-                    out.extend(row.iter().map(|&(j, img)| (i as u32, j, img)));
-                }
-                out
-            })
-            .collect();
+                        let d = pos[j] + shift - pos[i];
+                        let cut = range.cutoff(radius[i], radius[j]) + skin;
+                        if d.norm_squared() < cut * cut {
+                            row.push((j as u32, img));
+                        }
+                    }
+                });
+                row.sort_unstable_by_key(|&(j, img)| (j, img));
+                out.extend(row.iter().map(|&(j, img)| (i as u32, j, img)));
+            }
+            out
+        };
+        let chunks = n.div_ceil(CHUNK);
+        let rows: Vec<Vec<(u32, u32, Image)>> = if parallel {
+            (0..chunks).into_par_iter().map(row_chunk).collect()
+        } else {
+            (0..chunks).map(row_chunk).collect()
+        };
 
         let total: usize = rows.iter().map(Vec::len).sum();
         let mut new_i = Vec::with_capacity(total);

@@ -368,7 +368,10 @@ impl Simulation {
         let _step = tracing::trace_span!("step", n = self.step).entered();
         {
             let _s = tracing::trace_span!("neighbor").entered();
-            if self.list.needs_rebuild(&self.particles.pos, &self.sim_box) {
+            if self
+                .list
+                .needs_rebuild(&self.particles.pos, &self.sim_box, parallel)
+            {
                 self.list.build(
                     &mut self.particles.pos,
                     &self.particles.radius,
@@ -436,7 +439,7 @@ impl Simulation {
             self.want_virial = false;
             self.have_virial_at = Some(self.step);
         }
-        self.check_finite()
+        self.check_finite(parallel)
     }
 
     fn advance_box(&mut self) -> Result<()> {
@@ -486,14 +489,22 @@ impl Simulation {
         }
     }
 
-    fn check_finite(&self) -> Result<()> {
+    fn check_finite(&self, parallel: bool) -> Result<()> {
         use rayon::prelude::*;
         let p = &self.particles;
-        let bad = (0..p.len()).into_par_iter().find_first(|&i| {
+        let bad_at = |i: usize| {
             !(p.pos[i].iter().all(|x| x.is_finite())
                 && p.vel[i].iter().all(|x| x.is_finite())
                 && p.omega[i].iter().all(|x| x.is_finite()))
-        });
+        };
+        let bad = if parallel {
+            (0..p.len())
+                .into_par_iter()
+                .with_min_len(4096)
+                .find_first(|&i| bad_at(i))
+        } else {
+            (0..p.len()).find(|&i| bad_at(i))
+        };
         match bad {
             Some(i) => Err(DemError::NonFinite {
                 step: self.step,

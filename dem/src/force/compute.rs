@@ -1,4 +1,10 @@
-//! The force phase: pairs in parallel into a per-pair buffer, then a per-particle gather in fixed order.
+//! The force phase, in two interchangeable forms that produce bit-identical results:
+//! - one thread: each pair is evaluated and added straight into the per-particle sums (no buffer);
+//! - several threads: pairs are evaluated in parallel into a per-pair buffer, then each particle gathers
+//!   its contributions in exactly the order the one-thread loop added them (increasing pair index: the
+//!   pairs where it is the second particle, then its own row), so the floating-point sums are the same.
+//!
+//! Energies are summed in pair order in both forms.
 
 use nalgebra::Matrix3;
 use rayon::prelude::*;
@@ -15,7 +21,7 @@ const PAIR_CHUNK: usize = 2048;
 /// Particles per parallel task in the gather.
 const PARTICLE_CHUNK: usize = 1024;
 
-/// Scratch reused from step to step (sized once per neighbour-list build, never in the force loop).
+/// Scratch reused from step to step (resized only when the neighbour list changes size).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct ForceBuffers {
     pub out: Vec<PairOut>,
@@ -35,6 +41,15 @@ pub(crate) struct PairEnergyTotals {
     pub slid: f64,
 }
 
+impl PairEnergyTotals {
+    fn add(&mut self, e: &PairEnergy) {
+        self.normal += e.normal;
+        self.tangential += e.tangential;
+        self.damping_power += e.damping_power;
+        self.slid += e.slid;
+    }
+}
+
 /// What to compute besides forces and torques.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct ForcePhase {
@@ -43,8 +58,45 @@ pub(crate) struct ForcePhase {
     pub parallel: bool,
 }
 
+/// Read-only inputs of the pair loop.
+struct Ctx<'a> {
+    coef: &'a PairCoefficients,
+    parts: &'a Particles,
+    bx: &'a SimBox,
+    dt: f64,
+}
+
+impl Ctx<'_> {
+    #[inline(always)]
+    fn separation(&self, list_i: u32, list_j: u32, image: [i8; 3]) -> Vec3 {
+        self.parts.pos[list_j as usize] + self.bx.shift(image) - self.parts.pos[list_i as usize]
+    }
+
+    #[inline(always)]
+    fn eval<const T: bool>(
+        &self,
+        i: usize,
+        j: usize,
+        d: Vec3,
+        hist: &mut Vec3,
+    ) -> (PairOut, PairEnergy) {
+        let p = self.parts;
+        let inp = PairInput {
+            d,
+            dv: p.vel[i] - p.vel[j],
+            wi: p.omega[i],
+            wj: p.omega[j],
+            ri: p.radius[i],
+            rj: p.radius[j],
+            mi: p.mass[i],
+            mj: p.mass[j],
+        };
+        pair::<T>(self.coef, &inp, hist, self.dt)
+    }
+}
+
 impl ForceBuffers {
-    /// Evaluates all pairs and gathers forces, torques (and optionally energies and virials).
+    /// Evaluates all pairs and sums forces, torques (and optionally energies and virials).
     pub fn compute(
         &mut self,
         phase: ForcePhase,
@@ -54,81 +106,92 @@ impl ForceBuffers {
         list: &mut NeighborList,
         dt: f64,
     ) -> PairEnergyTotals {
-        let np = list.len();
         let n = parts.len();
-        self.out.resize(np, PairOut::default());
         self.force.resize(n, Vec3::zeros());
         self.torque.resize(n, Vec3::zeros());
+        if phase.virial {
+            self.virial.resize(n, Matrix3::zeros());
+        }
+        let ctx = Ctx {
+            coef,
+            parts,
+            bx,
+            dt,
+        };
+        let _s =
+            tracing::trace_span!("pairs", np = list.len(), parallel = phase.parallel).entered();
+        match (coef.tangential, phase.parallel) {
+            (true, false) => self.direct::<true>(&ctx, list, phase),
+            (false, false) => self.direct::<false>(&ctx, list, phase),
+            (true, true) => self.buffered::<true>(&ctx, list, phase),
+            (false, true) => self.buffered::<false>(&ctx, list, phase),
+        }
+    }
+
+    /// One thread: evaluate and accumulate in pair order.
+    fn direct<const T: bool>(
+        &mut self,
+        ctx: &Ctx,
+        list: &mut NeighborList,
+        phase: ForcePhase,
+    ) -> PairEnergyTotals {
+        self.force.iter_mut().for_each(|f| *f = Vec3::zeros());
+        self.torque.iter_mut().for_each(|t| *t = Vec3::zeros());
+        if phase.virial {
+            self.virial.iter_mut().for_each(|w| *w = Matrix3::zeros());
+        }
+        let mut totals = PairEnergyTotals::default();
+        for p in 0..list.len() {
+            let (i, j) = (list.i[p] as usize, list.j[p] as usize);
+            let d = ctx.separation(list.i[p], list.j[p], list.image[p]);
+            let (o, e) = ctx.eval::<T>(i, j, d, &mut list.hist[p]);
+            self.force[i] += o.f;
+            self.torque[i] += o.ai * o.nxf;
+            self.force[j] -= o.f;
+            self.torque[j] += o.aj * o.nxf;
+            if phase.virial {
+                let w = -0.5 * d * o.f.transpose();
+                self.virial[i] += w;
+                self.virial[j] += w;
+            }
+            if phase.energy {
+                totals.add(&e);
+            }
+        }
+        totals
+    }
+
+    /// Several threads: pairs into the buffer in parallel, then the ordered gather.
+    fn buffered<const T: bool>(
+        &mut self,
+        ctx: &Ctx,
+        list: &mut NeighborList,
+        phase: ForcePhase,
+    ) -> PairEnergyTotals {
+        let np = list.len();
+        self.out.resize(np, PairOut::default());
         if phase.energy {
             self.energy.resize(np, PairEnergy::default());
         }
         {
-            let _s = tracing::trace_span!("pairs", np).entered();
-            match (coef.tangential, phase.energy) {
-                (true, true) => self.pairs::<true, true>(phase.parallel, coef, parts, bx, list, dt),
-                (true, false) => {
-                    self.pairs::<true, false>(phase.parallel, coef, parts, bx, list, dt)
-                }
-                (false, true) => {
-                    self.pairs::<false, true>(phase.parallel, coef, parts, bx, list, dt)
-                }
-                (false, false) => {
-                    self.pairs::<false, false>(phase.parallel, coef, parts, bx, list, dt)
-                }
-            }
-        }
-        {
-            let _s = tracing::trace_span!("gather", n).entered();
-            self.gather(phase.parallel, list);
-            if phase.virial {
-                self.gather_virial(phase.parallel, parts, bx, list);
-            }
-        }
-        if phase.energy {
-            self.energy_totals()
-        } else {
-            PairEnergyTotals::default()
-        }
-    }
-
-    fn pairs<const T: bool, const E: bool>(
-        &mut self,
-        parallel: bool,
-        coef: &PairCoefficients,
-        parts: &Particles,
-        bx: &SimBox,
-        list: &mut NeighborList,
-        dt: f64,
-    ) {
-        let (li, lj, limg) = (&list.i, &list.j, &list.image);
-        let run = |start: usize, out: &mut [PairOut], hist: &mut [Vec3], en: &mut [PairEnergy]| {
-            for k in 0..out.len() {
-                let p = start + k;
-                let (i, j) = (li[p] as usize, lj[p] as usize);
-                let inp = PairInput {
-                    d: parts.pos[j] + bx.shift(limg[p]) - parts.pos[i],
-                    dv: parts.vel[i] - parts.vel[j],
-                    wi: parts.omega[i],
-                    wj: parts.omega[j],
-                    ri: parts.radius[i],
-                    rj: parts.radius[j],
-                    mi: parts.mass[i],
-                    mj: parts.mass[j],
+            let (li, lj, limg) = (&list.i, &list.j, &list.image);
+            let run =
+                |start: usize, out: &mut [PairOut], hist: &mut [Vec3], en: &mut [PairEnergy]| {
+                    for k in 0..out.len() {
+                        let p = start + k;
+                        let d = ctx.separation(li[p], lj[p], limg[p]);
+                        let (o, e) = ctx.eval::<T>(li[p] as usize, lj[p] as usize, d, &mut hist[k]);
+                        out[k] = o;
+                        if !en.is_empty() {
+                            en[k] = e;
+                        }
+                    }
                 };
-                let (o, e) = pair::<T>(coef, &inp, &mut hist[k], dt);
-                out[k] = o;
-                if E {
-                    en[k] = e;
-                }
-            }
-        };
-        let en: &mut [PairEnergy] = if E { &mut self.energy } else { &mut [] };
-        if parallel {
-            if E {
+            if phase.energy {
                 self.out
                     .par_chunks_mut(PAIR_CHUNK)
                     .zip(list.hist.par_chunks_mut(PAIR_CHUNK))
-                    .zip(en.par_chunks_mut(PAIR_CHUNK))
+                    .zip(self.energy.par_chunks_mut(PAIR_CHUNK))
                     .enumerate()
                     .for_each(|(c, ((o, h), e))| run(c * PAIR_CHUNK, o, h, e));
             } else {
@@ -138,92 +201,76 @@ impl ForceBuffers {
                     .enumerate()
                     .for_each(|(c, (o, h))| run(c * PAIR_CHUNK, o, h, &mut []));
             }
-        } else {
-            run(0, &mut self.out, &mut list.hist, en);
         }
+        let _g = tracing::trace_span!("gather").entered();
+        self.gather(list);
+        if phase.virial {
+            self.gather_virial(ctx, list);
+        }
+        let mut totals = PairEnergyTotals::default();
+        if phase.energy {
+            self.energy.iter().for_each(|e| totals.add(e));
+        }
+        totals
     }
 
-    fn gather(&mut self, parallel: bool, list: &NeighborList) {
-        let out = &self.out;
-        let run = |start: usize, f: &mut [Vec3], t: &mut [Vec3]| {
-            for k in 0..f.len() {
-                let i = start + k;
-                let mut fi = Vec3::zeros();
-                let mut ti = Vec3::zeros();
-                for o in &out[list.row_start[i] as usize..list.row_start[i + 1] as usize] {
-                    fi += o.f;
-                    ti += o.ai * o.nxf;
-                }
-                for &p in &list.rev_pair[list.rev_start[i] as usize..list.rev_start[i + 1] as usize]
-                {
-                    let o = &out[p as usize];
-                    fi -= o.f;
-                    ti += o.aj * o.nxf;
-                }
-                f[k] = fi;
-                t[k] = ti;
+    /// Calls `f(pair, sign)` for every contribution to particle `k` in increasing pair order:
+    /// sign -1 where `k` is the second particle, +1 where it is the first (both for a self-image pair).
+    #[inline(always)]
+    fn for_each_contribution(list: &NeighborList, k: usize, mut f: impl FnMut(usize, f64)) {
+        let (row_s, row_e) = (list.row_start[k] as usize, list.row_start[k + 1] as usize);
+        for &p in &list.rev_pair[list.rev_start[k] as usize..list.rev_start[k + 1] as usize] {
+            if (p as usize) < row_s {
+                f(p as usize, -1.0);
             }
-        };
-        if parallel {
-            self.force
-                .par_chunks_mut(PARTICLE_CHUNK)
-                .zip(self.torque.par_chunks_mut(PARTICLE_CHUNK))
-                .enumerate()
-                .for_each(|(c, (f, t))| run(c * PARTICLE_CHUNK, f, t));
-        } else {
-            run(0, &mut self.force, &mut self.torque);
         }
-    }
-
-    fn gather_virial(
-        &mut self,
-        parallel: bool,
-        parts: &Particles,
-        bx: &SimBox,
-        list: &NeighborList,
-    ) {
-        let n = parts.len();
-        self.virial.resize(n, Matrix3::zeros());
-        let out = &self.out;
-        // Half of the pair virial (x_i - x_j) (x) F_i = -d (x) f to each partner.
-        let half_pair = |p: usize| -> Matrix3<f64> {
-            let (i, j) = (list.i[p] as usize, list.j[p] as usize);
-            let d = parts.pos[j] + bx.shift(list.image[p]) - parts.pos[i];
-            -0.5 * d * out[p].f.transpose()
-        };
-        let run = |start: usize, w: &mut [Matrix3<f64>]| {
-            for k in 0..w.len() {
-                let i = start + k;
-                let mut acc = Matrix3::zeros();
-                for p in list.row_start[i] as usize..list.row_start[i + 1] as usize {
-                    acc += half_pair(p);
-                }
-                for &p in &list.rev_pair[list.rev_start[i] as usize..list.rev_start[i + 1] as usize]
-                {
-                    acc += half_pair(p as usize);
-                }
-                w[k] = acc;
+        for p in row_s..row_e {
+            f(p, 1.0);
+            if list.j[p] as usize == k {
+                f(p, -1.0);
             }
-        };
-        if parallel {
-            self.virial
-                .par_chunks_mut(PARTICLE_CHUNK)
-                .enumerate()
-                .for_each(|(c, w)| run(c * PARTICLE_CHUNK, w));
-        } else {
-            run(0, &mut self.virial);
         }
     }
 
-    /// Deterministic sum: fixed chunks summed in order, whatever the thread count.
-    fn energy_totals(&self) -> PairEnergyTotals {
-        let mut t = PairEnergyTotals::default();
-        for e in &self.energy {
-            t.normal += e.normal;
-            t.tangential += e.tangential;
-            t.damping_power += e.damping_power;
-            t.slid += e.slid;
-        }
-        t
+    fn gather(&mut self, list: &NeighborList) {
+        let out = &self.out;
+        self.force
+            .par_chunks_mut(PARTICLE_CHUNK)
+            .zip(self.torque.par_chunks_mut(PARTICLE_CHUNK))
+            .enumerate()
+            .for_each(|(c, (f, t))| {
+                for k in 0..f.len() {
+                    let (mut fk, mut tk) = (Vec3::zeros(), Vec3::zeros());
+                    Self::for_each_contribution(list, c * PARTICLE_CHUNK + k, |p, sign| {
+                        let o = &out[p];
+                        if sign > 0.0 {
+                            fk += o.f;
+                            tk += o.ai * o.nxf;
+                        } else {
+                            fk -= o.f;
+                            tk += o.aj * o.nxf;
+                        }
+                    });
+                    f[k] = fk;
+                    t[k] = tk;
+                }
+            });
+    }
+
+    fn gather_virial(&mut self, ctx: &Ctx, list: &NeighborList) {
+        let out = &self.out;
+        self.virial
+            .par_chunks_mut(PARTICLE_CHUNK)
+            .enumerate()
+            .for_each(|(c, w)| {
+                for k in 0..w.len() {
+                    let mut acc = Matrix3::zeros();
+                    Self::for_each_contribution(list, c * PARTICLE_CHUNK + k, |p, _| {
+                        let d = ctx.separation(list.i[p], list.j[p], list.image[p]);
+                        acc += -0.5 * d * out[p].f.transpose();
+                    });
+                    w[k] = acc;
+                }
+            });
     }
 }
