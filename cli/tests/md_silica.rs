@@ -23,15 +23,16 @@ fn silica_card_from_worker_has_agreed_keys_plausible_values_and_is_cached() {
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     std::fs::write(d.join("tiny.toml"), TINY).unwrap();
+    let (cfg, out_dir, cache) = (d.join("tiny.toml"), d.join("out"), d.join("cache"));
     let args = [
         "md",
         "silica",
         "--config",
-        d.join("tiny.toml").to_str().unwrap(),
+        cfg.to_str().unwrap(),
         "--out",
-        d.join("out").to_str().unwrap(),
+        out_dir.to_str().unwrap(),
         "--cache",
-        d.join("cache").to_str().unwrap(),
+        cache.to_str().unwrap(),
     ];
     let run = || {
         Command::new(env!("CARGO_BIN_EXE_cgdem"))

@@ -33,7 +33,8 @@ fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
 }
 
-/// A 500-atom LJ run that leaves its potential energy per atom in `pe_atom`.
+/// A 500-atom LJ run that leaves its potential energy per atom in `pe_atom` (LJ units normalise
+/// thermo energies per atom).
 const LJ: &str = "units lj
 lattice fcc 0.8442
 region box block 0 5 0 5 0 5
@@ -45,7 +46,7 @@ pair_style lj/cut 2.5
 pair_coeff 1 1 1.0 1.0 2.5
 fix 1 all nve
 run 200
-variable pe_atom equal pe/atoms
+variable pe_atom equal pe
 variable n equal atoms
 ";
 
