@@ -126,4 +126,5 @@ fn silica_card_from_worker_has_agreed_keys_plausible_values_and_is_cached() {
         stdout,
         "a cache hit reproduces the card"
     );
+    let _ = std::fs::remove_dir_all(&d);
 }
