@@ -131,7 +131,8 @@ pub(crate) fn pair<const TANGENTIAL: bool>(
     dt: f64,
 ) -> (PairOut, PairEnergy) {
     let dist2 = inp.d.norm_squared();
-    let reach = coef.cutoff(inp.ri, inp.rj);
+    let (d_sum, delta_f) = coef.range(inp.ri, inp.rj);
+    let reach = d_sum + delta_f;
     if dist2 >= reach * reach {
         *hist = Vec3::zeros();
         return (PairOut::default(), PairEnergy::default());
@@ -139,7 +140,7 @@ pub(crate) fn pair<const TANGENTIAL: bool>(
     let dist = dist2.sqrt();
     let n = inp.d * (1.0 / dist);
     let dn = dist - inp.ri - inp.rj;
-    let p = coef.params(inp.ri, inp.rj, inp.mi, inp.mj);
+    let p = coef.params_in_range(inp.ri, inp.rj, d_sum, delta_f, inp.mi, inp.mj);
     let ai = inp.ri + 0.5 * dn;
     let aj = inp.rj + 0.5 * dn;
     // Velocity of i relative to j at the contact point.

@@ -30,6 +30,7 @@ pub(crate) struct ForceBuffers {
     pub torque: Vec<Vec3>,
     /// Per-particle virial sum_j 1/2 (x_i - x_j) (x) F_ij (filled when requested).
     pub virial: Vec<Matrix3<f64>>,
+    kin: Vec<Kin>,
 }
 
 /// Sums of the per-pair energy terms of one evaluation.
@@ -58,39 +59,34 @@ pub(crate) struct ForcePhase {
     pub parallel: bool,
 }
 
+/// Kinematics of one particle, gathered once per step so that a pair reads its partner from one place.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Kin {
+    x: Vec3,
+    v: Vec3,
+    w: Vec3,
+    r: f64,
+    m: f64,
+}
+
 /// Read-only inputs of the pair loop.
 struct Ctx<'a> {
     coef: &'a PairCoefficients,
-    parts: &'a Particles,
-    bx: &'a SimBox,
+    kin: &'a [Kin],
+    lengths: Vec3,
     dt: f64,
 }
 
 impl Ctx<'_> {
     #[inline(always)]
-    fn separation(&self, list_i: u32, list_j: u32, image: [i8; 3]) -> Vec3 {
-        self.parts.pos[list_j as usize] + self.bx.shift(image) - self.parts.pos[list_i as usize]
+    fn separation(&self, i: usize, j: usize, image: [i8; 3]) -> Vec3 {
+        let s = Vec3::new(image[0] as f64, image[1] as f64, image[2] as f64).component_mul(&self.lengths);
+        self.kin[j].x + s - self.kin[i].x
     }
 
     #[inline(always)]
-    fn eval<const T: bool>(
-        &self,
-        i: usize,
-        j: usize,
-        d: Vec3,
-        hist: &mut Vec3,
-    ) -> (PairOut, PairEnergy) {
-        let p = self.parts;
-        let inp = PairInput {
-            d,
-            dv: p.vel[i] - p.vel[j],
-            wi: p.omega[i],
-            wj: p.omega[j],
-            ri: p.radius[i],
-            rj: p.radius[j],
-            mi: p.mass[i],
-            mj: p.mass[j],
-        };
+    fn eval<const T: bool>(&self, ki: &Kin, kj: &Kin, d: Vec3, hist: &mut Vec3) -> (PairOut, PairEnergy) {
+        let inp = PairInput { d, dv: ki.v - kj.v, wi: ki.w, wj: kj.w, ri: ki.r, rj: kj.r, mi: ki.m, mj: kj.m };
         pair::<T>(self.coef, &inp, hist, self.dt)
     }
 }
@@ -112,24 +108,30 @@ impl ForceBuffers {
         if phase.virial {
             self.virial.resize(n, Matrix3::zeros());
         }
-        let ctx = Ctx {
-            coef,
-            parts,
-            bx,
-            dt,
-        };
-        let _s =
-            tracing::trace_span!("pairs", np = list.len(), parallel = phase.parallel).entered();
-        match (coef.tangential, phase.parallel) {
-            (true, false) => self.direct::<true>(&ctx, list, phase),
-            (false, false) => self.direct::<false>(&ctx, list, phase),
-            (true, true) => self.buffered::<true>(&ctx, list, phase),
-            (false, true) => self.buffered::<false>(&ctx, list, phase),
+        let mut kin = std::mem::take(&mut self.kin);
+        kin.resize(n, Kin::default());
+        for (i, k) in kin.iter_mut().enumerate() {
+            *k = Kin { x: parts.pos[i], v: parts.vel[i], w: parts.omega[i], r: parts.radius[i], m: parts.mass[i] };
         }
+        let ctx = Ctx { coef, kin: &kin, lengths: bx.lengths(), dt };
+        let totals = {
+            let _s = tracing::trace_span!("pairs", np = list.len(), parallel = phase.parallel).entered();
+            match (coef.tangential, phase.parallel, phase.energy) {
+                (true, false, true) => self.direct::<true, true>(&ctx, list, phase),
+                (true, false, false) => self.direct::<true, false>(&ctx, list, phase),
+                (false, false, true) => self.direct::<false, true>(&ctx, list, phase),
+                (false, false, false) => self.direct::<false, false>(&ctx, list, phase),
+                (true, true, _) => self.buffered::<true>(&ctx, list, phase),
+                (false, true, _) => self.buffered::<false>(&ctx, list, phase),
+            }
+        };
+        self.kin = kin;
+        totals
     }
 
-    /// One thread: evaluate and accumulate in pair order.
-    fn direct<const T: bool>(
+    /// One thread: evaluate and accumulate in pair order. Rows are walked particle by particle: the first
+    /// particle's sums stay in registers for its row, which adds in the same order as pair by pair.
+    fn direct<const T: bool, const E: bool>(
         &mut self,
         ctx: &Ctx,
         list: &mut NeighborList,
@@ -141,33 +143,44 @@ impl ForceBuffers {
             self.virial.iter_mut().for_each(|w| *w = Matrix3::zeros());
         }
         let mut totals = PairEnergyTotals::default();
-        for p in 0..list.len() {
-            let (i, j) = (list.i[p] as usize, list.j[p] as usize);
-            let d = ctx.separation(list.i[p], list.j[p], list.image[p]);
-            let (o, e) = ctx.eval::<T>(i, j, d, &mut list.hist[p]);
-            self.force[i] += o.f;
-            self.torque[i] += o.ai * o.nxf;
-            self.force[j] -= o.f;
-            self.torque[j] += o.aj * o.nxf;
-            if phase.virial {
-                let w = -0.5 * d * o.f.transpose();
-                self.virial[i] += w;
-                self.virial[j] += w;
+        let (force, torque, virial) = (&mut self.force, &mut self.torque, &mut self.virial);
+        for i in 0..ctx.kin.len() {
+            let (rs, re) = (list.row_start[i] as usize, list.row_start[i + 1] as usize);
+            if rs == re {
+                continue;
             }
-            if phase.energy {
-                totals.add(&e);
+            let ki = ctx.kin[i];
+            let (mut fi, mut ti) = (force[i], torque[i]);
+            for p in rs..re {
+                let j = list.j[p] as usize;
+                let d = ctx.separation(i, j, list.image[p]);
+                let (o, e) = ctx.eval::<T>(&ki, &ctx.kin[j], d, &mut list.hist[p]);
+                fi += o.f;
+                ti += o.ai * o.nxf;
+                if j == i {
+                    fi -= o.f;
+                    ti += o.aj * o.nxf;
+                } else {
+                    force[j] -= o.f;
+                    torque[j] += o.aj * o.nxf;
+                }
+                if phase.virial {
+                    let w = -0.5 * d * o.f.transpose();
+                    virial[i] += w;
+                    virial[j] += w;
+                }
+                if E {
+                    totals.add(&e);
+                }
             }
+            force[i] = fi;
+            torque[i] = ti;
         }
         totals
     }
 
     /// Several threads: pairs into the buffer in parallel, then the ordered gather.
-    fn buffered<const T: bool>(
-        &mut self,
-        ctx: &Ctx,
-        list: &mut NeighborList,
-        phase: ForcePhase,
-    ) -> PairEnergyTotals {
+    fn buffered<const T: bool>(&mut self, ctx: &Ctx, list: &mut NeighborList, phase: ForcePhase) -> PairEnergyTotals {
         let np = list.len();
         self.out.resize(np, PairOut::default());
         if phase.energy {
@@ -175,18 +188,18 @@ impl ForceBuffers {
         }
         {
             let (li, lj, limg) = (&list.i, &list.j, &list.image);
-            let run =
-                |start: usize, out: &mut [PairOut], hist: &mut [Vec3], en: &mut [PairEnergy]| {
-                    for k in 0..out.len() {
-                        let p = start + k;
-                        let d = ctx.separation(li[p], lj[p], limg[p]);
-                        let (o, e) = ctx.eval::<T>(li[p] as usize, lj[p] as usize, d, &mut hist[k]);
-                        out[k] = o;
-                        if !en.is_empty() {
-                            en[k] = e;
-                        }
+            let run = |start: usize, out: &mut [PairOut], hist: &mut [Vec3], en: &mut [PairEnergy]| {
+                for k in 0..out.len() {
+                    let p = start + k;
+                    let (i, j) = (li[p] as usize, lj[p] as usize);
+                    let d = ctx.separation(i, j, limg[p]);
+                    let (o, e) = ctx.eval::<T>(&ctx.kin[i], &ctx.kin[j], d, &mut hist[k]);
+                    out[k] = o;
+                    if !en.is_empty() {
+                        en[k] = e;
                     }
-                };
+                }
+            };
             if phase.energy {
                 self.out
                     .par_chunks_mut(PAIR_CHUNK)
@@ -259,18 +272,15 @@ impl ForceBuffers {
 
     fn gather_virial(&mut self, ctx: &Ctx, list: &NeighborList) {
         let out = &self.out;
-        self.virial
-            .par_chunks_mut(PARTICLE_CHUNK)
-            .enumerate()
-            .for_each(|(c, w)| {
-                for k in 0..w.len() {
-                    let mut acc = Matrix3::zeros();
-                    Self::for_each_contribution(list, c * PARTICLE_CHUNK + k, |p, _| {
-                        let d = ctx.separation(list.i[p], list.j[p], list.image[p]);
-                        acc += -0.5 * d * out[p].f.transpose();
-                    });
-                    w[k] = acc;
-                }
-            });
+        self.virial.par_chunks_mut(PARTICLE_CHUNK).enumerate().for_each(|(c, w)| {
+            for k in 0..w.len() {
+                let mut acc = Matrix3::zeros();
+                Self::for_each_contribution(list, c * PARTICLE_CHUNK + k, |p, _| {
+                    let d = ctx.separation(list.i[p] as usize, list.j[p] as usize, list.image[p]);
+                    acc += -0.5 * d * out[p].f.transpose();
+                });
+                w[k] = acc;
+            }
+        });
     }
 }
