@@ -6,10 +6,22 @@ use dem::state::{sphere_inertia, sphere_mass};
 use dem::{Material, PairModel, Parallelism, RunConfig, Simulation};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let arg = |k: usize, d: usize| std::env::args().nth(k).and_then(|s| s.parse().ok()).unwrap_or(d);
+    let arg = |k: usize, d: usize| {
+        std::env::args()
+            .nth(k)
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(d)
+    };
     let (cells, steps, threads) = (arg(1, 24), arg(2, 100) as u64, arg(3, 1));
     let d = 90.0;
-    let (mut p, bx) = hcp_lattice(cells, cells & !1, (cells * 4 / 5).max(2) & !1, d, 1.0, [true; 3])?;
+    let (mut p, bx) = hcp_lattice(
+        cells,
+        cells & !1,
+        (cells * 4 / 5).max(2) & !1,
+        d,
+        1.0,
+        [true; 3],
+    )?;
     let r = 0.5 * d * 1.001;
     for i in 0..p.len() {
         p.radius[i] = r;
@@ -17,13 +29,28 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         p.inertia[i] = sphere_inertia(p.mass[i], r);
         p.vel[i].x = 0.01 * ((i * 7919 % 200) as f64 / 100.0 - 1.0);
     }
-    let par = if threads > 1 { Parallelism::Threads(threads) } else { Parallelism::Sequential };
-    let mut sim = Simulation::new(p, bx, PairModel::cohesive(Material::table4(0.15)), vec![], RunConfig::default(), par)?;
+    let par = if threads > 1 {
+        Parallelism::Threads(threads)
+    } else {
+        Parallelism::Sequential
+    };
+    let mut sim = Simulation::new(
+        p,
+        bx,
+        PairModel::cohesive(Material::table4(0.15)),
+        vec![],
+        RunConfig::default(),
+        par,
+    )?;
     sim.step()?;
     let t = std::time::Instant::now();
     sim.run(steps)?;
     let s = t.elapsed().as_secs_f64();
     let n = sim.particles.len();
-    println!("{n} particles, {} pairs, {steps} steps, {threads} thread(s): {:.3e} particle-steps/s", sim.neighbors().len(), n as f64 * steps as f64 / s);
+    println!(
+        "{n} particles, {} pairs, {steps} steps, {threads} thread(s): {:.3e} particle-steps/s",
+        sim.neighbors().len(),
+        n as f64 * steps as f64 / s
+    );
     Ok(())
 }

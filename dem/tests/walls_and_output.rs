@@ -1,0 +1,171 @@
+//! Rigid walls under prescribed force and traction, the virial stress of a group, and the dump format.
+
+mod common;
+
+use common::*;
+use dem::io::dump::write_frame;
+use dem::{
+    AxisControl, Group, Material, PairModel, Parallelism, RigidMotion, RunConfig, SimBox,
+    Simulation, Vec3,
+};
+
+#[test]
+fn force_controlled_wall_accelerates_as_one_body() {
+    // Two spheres far apart in one rigid group, pushed by an external force along z only.
+    let mut p = pair_of(1.0, 10.0);
+    p.group = vec![1, 1];
+    let f = 3.0;
+    let motion = RigidMotion {
+        axes: [
+            AxisControl::Velocity(0.5),
+            AxisControl::Force(0.0),
+            AxisControl::Force(f),
+        ],
+        velocity: Vec3::zeros(),
+    };
+    let groups = vec![Group::free("all"), Group::rigid("wall", motion)];
+    let cfg = RunConfig {
+        track_energy: true,
+        ..RunConfig::default()
+    };
+    let mut s = Simulation::new(
+        p,
+        open_box(1e6),
+        PairModel::cohesive(Material::table4(0.1)),
+        groups,
+        cfg,
+        Parallelism::Sequential,
+    )
+    .unwrap();
+    let m: f64 = s.particles.mass.iter().sum();
+    s.run(1000).unwrap();
+    let t = s.time();
+    let v = s.particles.vel[1];
+    assert!(
+        (v.z - f / m * t).abs() < 1e-12 * (f / m * t),
+        "v_z {} vs F t / M {}",
+        v.z,
+        f / m * t
+    );
+    assert_eq!(v.x, 0.5);
+    assert_eq!(s.particles.vel[0], v, "both members move together");
+    // Work of the outside force: sum of F v_{n+1} dt = F dt^2 / M * n(n+1)/2.
+    let dt = s.dt();
+    let n = 1000.0;
+    let work = f * f * dt * dt / m * n * (n + 1.0) / 2.0;
+    assert!((s.energy().wall_work - work).abs() < 1e-9 * work);
+}
+
+#[test]
+fn pressure_wall_on_a_column_reaches_its_traction() {
+    // A column of spheres between a frozen floor and a traction-controlled lid settles where the
+    // virial stress of the free spheres balances the traction.
+    let d = 90.0;
+    let (mut p, _) = dem::sample::hcp::hcp_lattice(4, 4, 8, d, 1.0, [true, true, false]).unwrap();
+    let zs: Vec<f64> = p.pos.iter().map(|x| x.z).collect();
+    let (zmin, zmax) = zs
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), &z| (a.min(z), b.max(z)));
+    for i in 0..p.len() {
+        p.group[i] = if zs[i] < zmin + 1.0 {
+            1
+        } else if zs[i] > zmax - 1.0 {
+            2
+        } else {
+            0
+        };
+    }
+    let lx = 4.0 * d;
+    let ly = 4.0 * d * 3f64.sqrt() / 2.0;
+    let bx = SimBox::new(
+        Vec3::new(0.0, 0.0, zmin - d),
+        Vec3::new(lx, ly, zmax + 4.0 * d),
+        [true, true, false],
+    )
+    .unwrap();
+    let mat = Material::table4(0.1);
+    let traction = -0.005 * mat.young_modulus;
+    let lid = RigidMotion {
+        axes: [
+            AxisControl::Velocity(0.0),
+            AxisControl::Velocity(0.0),
+            AxisControl::Traction(traction),
+        ],
+        velocity: Vec3::zeros(),
+    };
+    let groups = vec![
+        Group::free("all"),
+        Group::rigid("floor", RigidMotion::frozen()),
+        Group::rigid("lid", lid),
+    ];
+    let cfg = RunConfig {
+        global_damping: 0.2,
+        ..RunConfig::default()
+    };
+    let mut s = Simulation::new(
+        p,
+        bx,
+        PairModel::cohesive(mat),
+        groups,
+        cfg,
+        Parallelism::Sequential,
+    )
+    .unwrap();
+    s.run(6000).unwrap();
+    s.request_virial();
+    s.step().unwrap();
+    // Stress of the free spheres over the volume they span: between the wall layers.
+    let free = |i: usize| s.particles.group[i] == 0;
+    let z = |g: u32| {
+        s.particles
+            .pos
+            .iter()
+            .zip(&s.particles.group)
+            .filter(|(_, &k)| k == g)
+            .map(|(x, _)| x.z)
+            .sum::<f64>()
+            / s.particles.group.iter().filter(|&&k| k == g).count() as f64
+    };
+    let height = z(2) - z(1);
+    let n_free = (0..s.particles.len()).filter(|&i| free(i)).count() as f64;
+    let layers = n_free / 16.0;
+    let volume = lx * ly * height * layers / (layers + 1.0);
+    let sigma = s.virial_stress(Some(&free), Some(volume));
+    assert!(
+        ((sigma[(2, 2)] - traction) / traction).abs() < 0.05,
+        "sigma_zz {} vs traction {traction}",
+        sigma[(2, 2)]
+    );
+}
+
+#[test]
+fn dump_is_a_lammps_text_frame() {
+    let mut p = pair_of(1.5, 0.0);
+    p.vel[1] = Vec3::new(0.25, -0.5, 1.0);
+    let s = sim(
+        p,
+        open_box(100.0),
+        PairModel::cohesive(Material::table4(0.1)),
+        RunConfig::default(),
+    );
+    let mut buf = Vec::new();
+    write_frame(&s, &mut buf).unwrap();
+    let text = String::from_utf8(buf).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines[0], "ITEM: TIMESTEP");
+    assert_eq!(lines[3], "2", "number of atoms");
+    assert_eq!(lines[4], "ITEM: BOX BOUNDS ff ff ff");
+    assert!(lines[8].starts_with("ITEM: ATOMS id type x y z radius vx vy vz"));
+    let row: Vec<f64> = lines[10]
+        .split_whitespace()
+        .map(|w| w.parse().unwrap())
+        .collect();
+    assert_eq!(row[0], 2.0, "ids start at 1");
+    assert_eq!(row[1], 1.0, "type = group + 1");
+    assert!((row[5] - 1.5).abs() < 1e-12, "radius column");
+    assert!(
+        (row[6] - 0.25).abs() < 1e-12
+            && (row[7] + 0.5).abs() < 1e-12
+            && (row[8] - 1.0).abs() < 1e-12
+    );
+}
