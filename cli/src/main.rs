@@ -1,9 +1,11 @@
 //! `cgdem`: the workbench binary. One subcommand per pipeline stage; each lives in its own module.
 
 mod cmd_bench;
+mod cmd_calibrate;
 mod cmd_doctor;
 mod cmd_md;
 mod cmd_patch;
+mod cmd_pipeline;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -39,6 +41,10 @@ enum Command {
     Patch(cmd_patch::PatchArgs),
     /// Make and save one sample (HCP or relaxed amorphous): `cgdem sample CONFIG --out FILE`.
     Sample(cmd_patch::SampleArgs),
+    /// Calibrate the pair parameters against the patch tests: `cgdem calibrate CONFIG --out DIR`.
+    Calibrate(cmd_calibrate::CalibrateArgs),
+    /// Material -> sample -> patch tests -> calibration -> card -> verification: `cgdem pipeline --out DIR`.
+    Pipeline(cmd_pipeline::PipelineArgs),
 }
 
 fn main() -> Result<()> {
@@ -49,6 +55,7 @@ fn main() -> Result<()> {
         )
         .with_writer(std::io::stderr)
         .init();
+    install_interrupt_handler();
     let cli = Cli::parse();
     match cli.command {
         Command::Doctor => cmd_doctor::run(),
@@ -58,5 +65,25 @@ fn main() -> Result<()> {
         Command::Bench(a) => cmd_bench::run(a),
         Command::Patch(a) => cmd_patch::run(a, cli.threads),
         Command::Sample(a) => cmd_patch::run_sample(a, cli.threads),
+        Command::Calibrate(a) => cmd_calibrate::run(a, cli.threads),
+        Command::Pipeline(a) => cmd_pipeline::run(a, cli.threads),
+    }
+}
+
+/// First Ctrl-C: every simulation stops at its next step and the command saves what it computed
+/// (checkpoints, histories); second Ctrl-C: exit at once.
+fn install_interrupt_handler() {
+    let result = ctrlc::set_handler(|| {
+        if dem::interrupt::requested() {
+            eprintln!("\nsecond interrupt: exiting now");
+            std::process::exit(130);
+        }
+        eprintln!(
+            "\ninterrupt: stopping at the next step and saving; Ctrl-C again to exit at once"
+        );
+        dem::interrupt::request();
+    });
+    if let Err(e) = result {
+        tracing::warn!("cannot install the Ctrl-C handler: {e}");
     }
 }

@@ -40,6 +40,9 @@ pub enum DemError {
         index: usize,
         what: &'static str,
     },
+    /// The run was interrupted (Ctrl-C) before this step; the state is that of the end of the previous step.
+    #[error("interrupted at step {step}")]
+    Interrupted { step: u64 },
     /// Reading or writing a file failed.
     #[error("i/o error on {path}: {source}")]
     Io {

@@ -18,6 +18,7 @@ pub mod energy;
 pub mod error;
 pub mod force;
 pub mod integrate;
+pub mod interrupt;
 pub mod io;
 pub mod material;
 pub mod neighbor;
@@ -34,7 +35,9 @@ pub type Vec3 = nalgebra::Vector3<f64>;
 pub use domain::{BoxControl, SimBox};
 pub use energy::EnergyLedger;
 pub use error::{DemError, Result};
-pub use material::{DampingModel, ForceLaw, Interactions, Material, PairModel, PairParams, ParamScale};
+pub use material::{
+    DampingModel, ForceLaw, Interactions, Material, PairModel, PairParams, ParamScale,
+};
 pub use sim::{Parallelism, RunConfig, Simulation, TimeStep};
 pub use state::Particles;
 pub use units::UnitSystem;

@@ -358,6 +358,9 @@ impl Simulation {
 
     /// One step of the pipeline.
     pub fn step(&mut self) -> Result<()> {
+        if crate::interrupt::requested() {
+            return Err(DemError::Interrupted { step: self.step });
+        }
         match self.pool.clone() {
             Some(pool) => pool.install(|| self.step_inner(true)),
             None => self.step_inner(false),
