@@ -1,0 +1,231 @@
+//! The calibration input (`cgdem calibrate <calibration.toml>`): target material (engine units, or SI
+//! converted once at input with [`UnitSystem::NANO`]), force law, sample recipe, targets, unknowns,
+//! first guess, solver settings and patch-test settings. Unreachable targets are refused here, before
+//! any simulation.
+
+use dem::material::{ForceLaw, Material, PairModel, ParamScale};
+use dem::sample::RelaxConfig;
+use dem::scenario::patch::suite::SampleSpec;
+use dem::UnitSystem;
+use serde::{Deserialize, Serialize};
+
+use crate::error::{CalibrateError, Result};
+use crate::executor::Settings;
+use crate::patch_problem::{Target, TestSettings, Unknown};
+
+/// Target properties in SI units: the `[material]` table of the card `cgdem md silica` writes
+/// (md-bridge/src/card.rs), plus the scaling exponent s.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SiMaterial {
+    /// Free-text name (e.g. "silica"); default none.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// Pa.
+    pub young_modulus: f64,
+    pub poisson_ratio: f64,
+    /// Pa.
+    pub tensile_strength: f64,
+    /// Pa.
+    pub shear_strength: f64,
+    /// J/m^2.
+    pub surface_energy: f64,
+    pub restitution: f64,
+    /// kg/m^3.
+    pub density: f64,
+    /// Exponent s of eq (10); default 0.5 (paper 000 section 4: constant gamma for silica).
+    #[serde(default = "half")]
+    pub scaling: f64,
+}
+
+fn half() -> f64 {
+    0.5
+}
+
+impl SiMaterial {
+    /// Engine-unit material in `u` (the only place SI numbers enter the engine).
+    pub fn to_engine(&self, u: UnitSystem) -> Material {
+        Material {
+            young_modulus: u.stress_from_pa(self.young_modulus),
+            poisson_ratio: self.poisson_ratio,
+            tensile_strength: u.stress_from_pa(self.tensile_strength),
+            shear_strength: u.stress_from_pa(self.shear_strength),
+            surface_energy: u.surface_energy_from_si(self.surface_energy),
+            restitution: self.restitution,
+            density: u.density_from_si(self.density),
+            scaling: self.scaling,
+        }
+    }
+
+    /// Paper 000 Table 5 (amorphous silica).
+    pub fn table5() -> Self {
+        SiMaterial {
+            name: Some("silica (paper 000 Table 5)".into()),
+            young_modulus: 73e9,
+            poisson_ratio: 0.17,
+            tensile_strength: 16e9,
+            shear_strength: 9e9,
+            surface_energy: 1.5,
+            restitution: 0.9,
+            density: 2200.0,
+            scaling: 0.5,
+        }
+    }
+}
+
+/// The whole calibration input.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CalibrationConfig {
+    /// Target material in engine units; give this or `material_si`.
+    #[serde(default)]
+    pub material: Option<Material>,
+    /// Target material in SI, converted with UnitSystem::NANO (nm, ns, ag).
+    #[serde(default)]
+    pub material_si: Option<SiMaterial>,
+    /// Force law; default cohesive (paper 000).
+    #[serde(default = "cohesive")]
+    pub law: ForceLaw,
+    /// Sample recipe (HCP, amorphous, or a saved file).
+    pub sample: SampleSpec,
+    /// Nominal diameter in metres (SI materials): replaces the recipe's d0_over_dc; default none.
+    #[serde(default)]
+    pub d0_m: Option<f64>,
+    /// Relaxation of amorphous samples; default the paper's (section 3.2).
+    #[serde(default)]
+    pub relax: RelaxConfig,
+    /// Residuals; default E, nu, sigma_N, sigma_T (the surface energy on request).
+    #[serde(default = "default_targets")]
+    pub targets: Vec<Target>,
+    /// Unknowns; default all five for the cohesive law, k_N, delta_e, delta_f for normal-only.
+    #[serde(default)]
+    pub unknowns: Option<Vec<Unknown>>,
+    /// First guess; default all multipliers 1 (the closed form, eqs 7-13).
+    #[serde(default)]
+    pub start: ParamScale,
+    /// Solver settings; default see [`Settings`].
+    #[serde(default)]
+    pub solver: Settings,
+    /// Patch-test settings; default see [`TestSettings`].
+    #[serde(default)]
+    pub tests: TestSettings,
+}
+
+fn cohesive() -> ForceLaw {
+    ForceLaw::Cohesive
+}
+
+fn default_targets() -> Vec<Target> {
+    vec![
+        Target::YoungModulus,
+        Target::PoissonRatio,
+        Target::TensileStrength,
+        Target::ShearStrength,
+    ]
+}
+
+/// A checked configuration: the base model, the unit system and the resolved choices.
+#[derive(Debug, Clone)]
+pub struct Prepared {
+    pub model: PairModel,
+    pub units: UnitSystem,
+    pub sample: SampleSpec,
+    pub targets: Vec<Target>,
+    pub unknowns: Vec<Unknown>,
+    pub tests: TestSettings,
+}
+
+impl CalibrationConfig {
+    pub fn from_toml(text: &str) -> Result<Self> {
+        toml::from_str(text).map_err(|e| CalibrateError::InvalidConfig(e.to_string()))
+    }
+
+    /// Checks everything that can be checked without a simulation, and refuses unreachable targets.
+    pub fn prepare(&self) -> Result<Prepared> {
+        let (material, units) = match (&self.material, &self.material_si) {
+            (Some(m), None) => (m.clone(), UnitSystem::REDUCED),
+            (None, Some(si)) => (si.to_engine(UnitSystem::NANO), UnitSystem::NANO),
+            _ => {
+                return Err(CalibrateError::InvalidConfig(
+                    "give exactly one of [material] (engine units) and [material_si] (SI)".into(),
+                ))
+            }
+        };
+        refuse_unreachable(&material, self.law)?;
+        let mut model = match self.law {
+            ForceLaw::Cohesive => PairModel::cohesive(material),
+            ForceLaw::NormalOnly => PairModel::normal_only(material),
+        };
+        model.scale = self.start;
+        model.validate()?;
+        let unknowns = self.unknowns.clone().unwrap_or_else(|| match self.law {
+            ForceLaw::Cohesive => Unknown::ALL.to_vec(),
+            ForceLaw::NormalOnly => vec![Unknown::KN, Unknown::DeltaE, Unknown::DeltaF],
+        });
+        if unknowns.is_empty() || self.targets.is_empty() {
+            return Err(CalibrateError::InvalidConfig(
+                "at least one unknown and one target".into(),
+            ));
+        }
+        if self.law == ForceLaw::NormalOnly {
+            if let Some(u) = unknowns
+                .iter()
+                .find(|u| matches!(u, Unknown::KT | Unknown::FMt))
+            {
+                return Err(CalibrateError::InvalidConfig(format!(
+                    "{} has no effect with the normal-only law (no tangential force)",
+                    u.name()
+                )));
+            }
+        }
+        let mut sample = self.sample.clone();
+        if let Some(d0) = self.d0_m {
+            let d0 = units.length_from_m(d0);
+            match &mut sample {
+                SampleSpec::Hcp { d0_over_dc, .. } | SampleSpec::Amorphous { d0_over_dc, .. } => {
+                    *d0_over_dc = d0 / model.material.critical_diameter()
+                }
+                SampleSpec::File { .. } => {
+                    return Err(CalibrateError::InvalidConfig(
+                        "d0_m needs a generated sample, not a file".into(),
+                    ))
+                }
+            }
+        }
+        let mut tests = self.tests;
+        if self.targets.contains(&Target::SurfaceEnergy) {
+            // The surface energy needs the separated state (strength tests stop early otherwise).
+            tests.tensile.post_peak_strain = tests.tensile.post_peak_strain.max(0.3);
+        }
+        Ok(Prepared {
+            model,
+            units,
+            sample,
+            targets: self.targets.clone(),
+            unknowns,
+            tests,
+        })
+    }
+}
+
+/// Refuses Poisson's ratios the force law cannot represent, whatever the multipliers (paper 000
+/// section 2.2: A_T of eq 16 is negative above 1/4; paper 004: the normal-only law gives 1/4).
+pub fn refuse_unreachable(m: &Material, law: ForceLaw) -> Result<()> {
+    let nu = m.poisson_ratio;
+    let impossible = match law {
+        ForceLaw::Cohesive => nu > 0.25,
+        ForceLaw::NormalOnly => (nu - 0.25).abs() > 1e-9,
+    };
+    match m.validate(law) {
+        Err(e) if impossible => Err(CalibrateError::Unreachable(format!(
+            "{e}. Calibration only rescales k_N, k_T, delta_e, delta_f and F_mT; it cannot move \
+             the Poisson's ratio outside what the force law spans ({}), so no simulation was run",
+            match law {
+                ForceLaw::Cohesive => "nu <= 1/4 with tangential forces",
+                ForceLaw::NormalOnly => "nu = 1/4 exactly without them",
+            }
+        ))),
+        Err(e) => Err(e.into()),
+        Ok(()) => Ok(()),
+    }
+}
