@@ -57,7 +57,11 @@ fn table4() -> Material {
 }
 
 fn parallelism(threads: usize) -> Parallelism {
-    let n = if threads == 0 { std::thread::available_parallelism().map_or(1, |n| n.get()) } else { threads };
+    let n = if threads == 0 {
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    } else {
+        threads
+    };
     if n <= 1 {
         Parallelism::Sequential
     } else {
@@ -66,19 +70,30 @@ fn parallelism(threads: usize) -> Parallelism {
 }
 
 fn read_toml<T: serde::de::DeserializeOwned>(path: &PathBuf) -> Result<T> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
     toml::from_str(&text).with_context(|| format!("parsing {}", path.display()))
 }
 
 /// Runs `cgdem patch`.
 pub fn run(args: PatchArgs, threads: usize) -> Result<()> {
     let suite: PatchSuite = read_toml(&args.config)?;
-    std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
     let report = run_suite(&suite, Some(&args.out), parallelism(threads))?;
     for (k, c) in report.cases.iter().enumerate() {
-        let e = c.elastic.as_ref().map(|r| format!(" E {:.4} nu {:.4}", r.young_modulus, r.poisson_ratio));
-        let t = c.tensile.as_ref().map(|r| format!(" tensile {:.4} ({:.1} %)", r.strength, 100.0 * r.ratio));
-        let s = c.shear.as_ref().map(|r| format!(" shear {:.4} ({:.1} %)", r.strength, 100.0 * r.ratio));
+        let e = c
+            .elastic
+            .as_ref()
+            .map(|r| format!(" E {:.4} nu {:.4}", r.young_modulus, r.poisson_ratio));
+        let t = c
+            .tensile
+            .as_ref()
+            .map(|r| format!(" tensile {:.4} ({:.1} %)", r.strength, 100.0 * r.ratio));
+        let s = c
+            .shear
+            .as_ref()
+            .map(|r| format!(" shear {:.4} ({:.1} %)", r.strength, 100.0 * r.ratio));
         println!(
             "case {k}: d0/dc {:?} nu {} s {} n {} vf {:.4} Z {:.2}{}{}{}",
             c.d0_over_dc,
@@ -155,7 +170,14 @@ mod tests {
         )
         .unwrap();
         let out = dir.join("out");
-        assert!(run(PatchArgs { config: bad.clone(), out }, 1).is_err());
+        assert!(run(
+            PatchArgs {
+                config: bad.clone(),
+                out
+            },
+            1
+        )
+        .is_err());
         std::fs::remove_dir_all(&dir).ok();
     }
 }

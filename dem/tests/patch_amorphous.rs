@@ -17,8 +17,13 @@ fn relaxed(mat: &Material, d0: f64, l: f64, d_l: f64, seed: u64) -> Sample {
         density: mat.density,
         seed,
     };
-    let s =
-        amorphous(&ins, &PairModel::cohesive(mat.clone()), &RelaxConfig::default(), Parallelism::Sequential).unwrap();
+    let s = amorphous(
+        &ins,
+        &PairModel::cohesive(mat.clone()),
+        &RelaxConfig::default(),
+        Parallelism::Sequential,
+    )
+    .unwrap();
     assert!(s.relaxation.as_ref().unwrap().converged);
     s
 }
@@ -31,8 +36,20 @@ fn amorphous_poisson_ratio_and_strengths_at_l_10() {
     let model = PairModel::cohesive(mat);
     let par = Parallelism::Sequential;
     let e = elastic(&sample, &model, &ElasticConfig::default(), par).unwrap();
-    let t = strength(&sample, &model, &StrengthConfig::paper(StrengthMode::Tensile), par).unwrap();
-    let s = strength(&sample, &model, &StrengthConfig::paper(StrengthMode::Shear), par).unwrap();
+    let t = strength(
+        &sample,
+        &model,
+        &StrengthConfig::paper(StrengthMode::Tensile),
+        par,
+    )
+    .unwrap();
+    let s = strength(
+        &sample,
+        &model,
+        &StrengthConfig::paper(StrengthMode::Shear),
+        par,
+    )
+    .unwrap();
     println!(
         "E {:.4} nu {:.4} tensile {:.4} ({:.3}) shear {:.4} ({:.3}) fracture {:?}",
         e.young_modulus, e.poisson_ratio, t.strength, t.ratio, s.strength, s.ratio, t.fracture
@@ -41,7 +58,10 @@ fn amorphous_poisson_ratio_and_strengths_at_l_10() {
     // and 20 d0 alike): nu 0.156, tensile 69 % / 64 %, shear 87 % / 85 % (docs/patch-tests.md discusses
     // the gap). Asserted: what the paper's explanation predicts (strengths below target, tensile more
     // reduced than shear, nu at or above target) with bands that pin the measured values.
-    assert!(e.converged && e.poisson_ratio > 0.14 && e.poisson_ratio < 0.21, "{e:?}");
+    assert!(
+        e.converged && e.poisson_ratio > 0.14 && e.poisson_ratio < 0.21,
+        "{e:?}"
+    );
     assert!(e.young_modulus > 0.9 && e.young_modulus < 1.35, "{e:?}");
     assert!(t.ratio > 0.5 && t.ratio < 0.8, "{t:?}");
     assert!(s.ratio > 0.6 && s.ratio < 0.95, "{s:?}");
@@ -74,5 +94,8 @@ fn fixed_largest_diameter_harmonises_tensile_strength() {
     let coarse = run(l / 10.0, 0.125 * l);
     let fine_free = run(l / 20.0, 1.25 * l / 20.0);
     let fine_fixed = run(l / 20.0, 0.125 * l);
-    assert!((fine_fixed - coarse).abs() < (fine_free - coarse).abs(), "{coarse} {fine_free} {fine_fixed}");
+    assert!(
+        (fine_fixed - coarse).abs() < (fine_free - coarse).abs(),
+        "{coarse} {fine_free} {fine_fixed}"
+    );
 }

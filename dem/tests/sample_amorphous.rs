@@ -37,11 +37,20 @@ fn relaxation_is_seeded_reaches_1e_14_e_and_round_trips() {
     let mass: f64 = a.particles.mass.iter().sum();
     assert!((mass / a.sim_box.volume() - mat.density).abs() < 1e-12);
     assert!(a.particles.vel.iter().all(|v| v.norm() == 0.0));
-    assert!(r.coordination.isolated == 0 && r.coordination.interacting > 12.0, "{r:?}");
+    assert!(
+        r.coordination.isolated == 0 && r.coordination.interacting > 12.0,
+        "{r:?}"
+    );
     // Same seed, same sample, bit for bit, with 1 or 2 threads; another seed differs.
     let b = amorphous(&ins, &model, &cfg, Parallelism::Threads(2)).unwrap();
     assert!(a.particles == b.particles, "1 and 2 threads differ");
-    let c = amorphous(&InsertionConfig { seed: 12, ..ins }, &model, &cfg, Parallelism::Sequential).unwrap();
+    let c = amorphous(
+        &InsertionConfig { seed: 12, ..ins },
+        &model,
+        &cfg,
+        Parallelism::Sequential,
+    )
+    .unwrap();
     assert_ne!(a.particles.pos, c.particles.pos);
     // Save and load are exact.
     let path = std::env::temp_dir().join(format!("cgdem_sample_{}.json", std::process::id()));
@@ -60,15 +69,29 @@ fn vf_and_e(s: f64) -> Vec<(f64, f64)> {
         let mut mat = Material::table4(0.15);
         mat.scaling = s;
         let model = PairModel::cohesive(mat.clone());
-        let sample =
-            amorphous(&insertion(&mat, d0, 10.0, seed), &model, &RelaxConfig::default(), Parallelism::Sequential)
-                .unwrap();
+        let sample = amorphous(
+            &insertion(&mat, d0, 10.0, seed),
+            &model,
+            &RelaxConfig::default(),
+            Parallelism::Sequential,
+        )
+        .unwrap();
         let r = sample.relaxation.clone().unwrap();
         assert!(r.converged, "{r:?}");
-        let e = elastic(&sample, &model, &ElasticConfig::default(), Parallelism::Sequential).unwrap();
+        let e = elastic(
+            &sample,
+            &model,
+            &ElasticConfig::default(),
+            Parallelism::Sequential,
+        )
+        .unwrap();
         println!(
             "s {s} d0 {d0} d_c: n {} vf {:.4} Z {:.2} E {:.4} nu {:.4}",
-            r.particles, r.volume_fraction, r.coordination.interacting, e.young_modulus, e.poisson_ratio
+            r.particles,
+            r.volume_fraction,
+            r.coordination.interacting,
+            e.young_modulus,
+            e.poisson_ratio
         );
         out.push((r.volume_fraction, e.young_modulus));
     }
@@ -79,9 +102,13 @@ fn vf_and_e(s: f64) -> Vec<(f64, f64)> {
 fn volume_fraction_is_independent_of_d0_for_s_0() {
     // Above d_c with s = 0 the model is scale-free, so only the random packing changes (Fig. 7).
     let r = vf_and_e(0.0);
-    let (lo, hi) = r.iter().fold((f64::INFINITY, 0.0f64), |a, v| (a.0.min(v.0), a.1.max(v.0)));
+    let (lo, hi) = r
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |a, v| (a.0.min(v.0), a.1.max(v.0)));
     assert!(hi - lo < 0.01, "{r:?}");
-    let (elo, ehi) = r.iter().fold((f64::INFINITY, 0.0f64), |a, v| (a.0.min(v.1), a.1.max(v.1)));
+    let (elo, ehi) = r
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |a, v| (a.0.min(v.1), a.1.max(v.1)));
     assert!(ehi / elo < 1.1, "{r:?}");
 }
 
@@ -89,7 +116,10 @@ fn volume_fraction_is_independent_of_d0_for_s_0() {
 fn volume_fraction_and_modulus_fall_with_d0_for_s_half() {
     // Figs. 7-8: a shorter relative range delta_f / d0 leaves a looser, softer packing.
     let r = vf_and_e(0.5);
-    assert!(r.windows(2).all(|w| w[1].0 < w[0].0), "volume fraction {r:?}");
+    assert!(
+        r.windows(2).all(|w| w[1].0 < w[0].0),
+        "volume fraction {r:?}"
+    );
     assert!(r.windows(2).all(|w| w[1].1 < w[0].1), "E {r:?}");
     assert!(r[2].0 < r[0].0 - 0.02, "{r:?}");
 }

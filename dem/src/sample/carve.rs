@@ -17,7 +17,11 @@ pub enum Shape {
     /// Points with lo <= x[axis] < hi.
     Slab { axis: usize, lo: f64, hi: f64 },
     /// Points within `radius` of the line through `point` along `direction` (infinite cylinder).
-    Cylinder { point: Vec3, direction: Vec3, radius: f64 },
+    Cylinder {
+        point: Vec3,
+        direction: Vec3,
+        radius: f64,
+    },
     /// Points within `radius` of `centre`.
     Sphere { centre: Vec3, radius: f64 },
     /// Points with lo <= x < hi on every axis.
@@ -29,18 +33,34 @@ impl Shape {
     pub fn validate(&self) -> Result<()> {
         let finite = |v: &Vec3| v.iter().all(|x| x.is_finite());
         let ok = match self {
-            Shape::HalfSpace { point, normal } => finite(point) && finite(normal) && normal.norm() > 0.0,
-            Shape::Slab { axis, lo, hi } => *axis < 3 && lo.is_finite() && hi.is_finite() && lo <= hi,
-            Shape::Cylinder { point, direction, radius } => {
-                finite(point) && finite(direction) && direction.norm() > 0.0 && radius.is_finite() && *radius >= 0.0
+            Shape::HalfSpace { point, normal } => {
+                finite(point) && finite(normal) && normal.norm() > 0.0
             }
-            Shape::Sphere { centre, radius } => finite(centre) && radius.is_finite() && *radius >= 0.0,
+            Shape::Slab { axis, lo, hi } => {
+                *axis < 3 && lo.is_finite() && hi.is_finite() && lo <= hi
+            }
+            Shape::Cylinder {
+                point,
+                direction,
+                radius,
+            } => {
+                finite(point)
+                    && finite(direction)
+                    && direction.norm() > 0.0
+                    && radius.is_finite()
+                    && *radius >= 0.0
+            }
+            Shape::Sphere { centre, radius } => {
+                finite(centre) && radius.is_finite() && *radius >= 0.0
+            }
             Shape::Cuboid { lo, hi } => finite(lo) && finite(hi),
         };
         if ok {
             Ok(())
         } else {
-            Err(DemError::InvalidConfig(format!("degenerate or non-finite shape {self:?}")))
+            Err(DemError::InvalidConfig(format!(
+                "degenerate or non-finite shape {self:?}"
+            )))
         }
     }
 
@@ -49,7 +69,11 @@ impl Shape {
         match self {
             Shape::HalfSpace { point, normal } => (x - point).dot(normal) >= 0.0,
             Shape::Slab { axis, lo, hi } => x[*axis] >= *lo && x[*axis] < *hi,
-            Shape::Cylinder { point, direction, radius } => {
+            Shape::Cylinder {
+                point,
+                direction,
+                radius,
+            } => {
                 let u = direction.normalize();
                 let r = x - point;
                 (r - r.dot(&u) * u).norm_squared() <= radius * radius
@@ -106,24 +130,55 @@ mod tests {
     #[test]
     fn shapes_select_by_centre() {
         let mut p = line();
-        let half = Shape::HalfSpace { point: Vec3::new(4.5, 0.0, 0.0), normal: Vec3::new(-1.0, 0.0, 0.0) };
+        let half = Shape::HalfSpace {
+            point: Vec3::new(4.5, 0.0, 0.0),
+            normal: Vec3::new(-1.0, 0.0, 0.0),
+        };
         assert_eq!(remove_inside(&mut p, &half).unwrap(), 5);
         assert_eq!(p.pos[0].x, 5.0);
-        let slab = Shape::Slab { axis: 0, lo: 6.0, hi: 8.0 };
+        let slab = Shape::Slab {
+            axis: 0,
+            lo: 6.0,
+            hi: 8.0,
+        };
         assert_eq!(assign_group(&mut p, &slab, 2).unwrap(), 2);
         assert_eq!(p.group, vec![0, 2, 2, 0, 0]);
-        let cyl = Shape::Cylinder { point: Vec3::zeros(), direction: Vec3::new(0.0, 1.0, 0.0), radius: 7.5 };
+        let cyl = Shape::Cylinder {
+            point: Vec3::zeros(),
+            direction: Vec3::new(0.0, 1.0, 0.0),
+            radius: 7.5,
+        };
         assert_eq!(keep_inside(&mut p, &cyl).unwrap(), 2);
-        assert!(Shape::Sphere { centre: Vec3::zeros(), radius: 1.0 }.contains(&Vec3::new(0.0, 1.0, 0.0)));
-        assert!(!Shape::Cuboid { lo: Vec3::zeros(), hi: Vec3::repeat(1.0) }.contains(&Vec3::repeat(1.0)));
+        assert!(Shape::Sphere {
+            centre: Vec3::zeros(),
+            radius: 1.0
+        }
+        .contains(&Vec3::new(0.0, 1.0, 0.0)));
+        assert!(!Shape::Cuboid {
+            lo: Vec3::zeros(),
+            hi: Vec3::repeat(1.0)
+        }
+        .contains(&Vec3::repeat(1.0)));
     }
 
     #[test]
     fn degenerate_shapes_are_refused() {
         let mut p = line();
-        let bad = Shape::HalfSpace { point: Vec3::zeros(), normal: Vec3::zeros() };
+        let bad = Shape::HalfSpace {
+            point: Vec3::zeros(),
+            normal: Vec3::zeros(),
+        };
         assert!(keep_inside(&mut p, &bad).is_err());
-        assert!(assign_group(&mut p, &Shape::Slab { axis: 3, lo: 0.0, hi: 1.0 }, 1).is_err());
+        assert!(assign_group(
+            &mut p,
+            &Shape::Slab {
+                axis: 3,
+                lo: 0.0,
+                hi: 1.0
+            },
+            1
+        )
+        .is_err());
         assert_eq!(p.len(), 10);
     }
 }

@@ -54,11 +54,18 @@ fn default_seed() -> u64 {
 pub fn random_insertion(cfg: &InsertionConfig) -> Result<Sample> {
     let sampler = cfg.sizes.sampler()?;
     let bx = SimBox::new(Vec3::zeros(), cfg.lengths, [true; 3])?;
-    if !(cfg.volume_fraction.is_finite() && cfg.volume_fraction > 0.0 && cfg.volume_fraction < 1.5) {
-        return Err(DemError::InvalidConfig(format!("volume fraction {} must lie in (0, 1.5)", cfg.volume_fraction)));
+    if !(cfg.volume_fraction.is_finite() && cfg.volume_fraction > 0.0 && cfg.volume_fraction < 1.5)
+    {
+        return Err(DemError::InvalidConfig(format!(
+            "volume fraction {} must lie in (0, 1.5)",
+            cfg.volume_fraction
+        )));
     }
     if !(cfg.density.is_finite() && cfg.density > 0.0) {
-        return Err(DemError::InvalidConfig(format!("density {} must be positive", cfg.density)));
+        return Err(DemError::InvalidConfig(format!(
+            "density {} must be positive",
+            cfg.density
+        )));
     }
     let d_min = cfg.sizes.min_diameter();
     let target = cfg.volume_fraction * bx.volume();
@@ -119,7 +126,11 @@ mod tests {
         assert_eq!(a, random_insertion(&cfg).unwrap());
         let b = random_insertion(&InsertionConfig { seed: 4, ..cfg }).unwrap();
         assert_ne!(a.particles.pos, b.particles.pos);
-        assert!(a.particles.pos.iter().all(|x| (0..3).all(|k| x[k] >= 0.0 && x[k] < cfg.lengths[k])));
+        assert!(a
+            .particles
+            .pos
+            .iter()
+            .all(|x| (0..3).all(|k| x[k] >= 0.0 && x[k] < cfg.lengths[k])));
     }
 
     #[test]
@@ -132,7 +143,11 @@ mod tests {
             seed: 1,
         };
         assert!(random_insertion(&cfg).is_err(), "too many particles");
-        assert!(random_insertion(&InsertionConfig { volume_fraction: f64::NAN, ..cfg }).is_err());
+        assert!(random_insertion(&InsertionConfig {
+            volume_fraction: f64::NAN,
+            ..cfg
+        })
+        .is_err());
         let big = SizeDistribution::Monodisperse { diameter: 5.0 };
         assert!(random_insertion(&InsertionConfig { sizes: big, ..cfg }).is_err());
     }

@@ -118,14 +118,24 @@ impl RelaxConfig {
         ];
         for (n, v) in pos {
             if !(v.is_finite() && v > 0.0) {
-                return Err(DemError::InvalidConfig(format!("relaxation {n} = {v} must be positive")));
+                return Err(DemError::InvalidConfig(format!(
+                    "relaxation {n} = {v} must be positive"
+                )));
             }
         }
-        if !(self.phase1_damping.is_finite() && self.phase1_damping >= 0.0) || self.check_every == 0 {
-            return Err(DemError::InvalidConfig("relaxation phase1_damping >= 0 and check_every >= 1".into()));
+        if !(self.phase1_damping.is_finite() && self.phase1_damping >= 0.0) || self.check_every == 0
+        {
+            return Err(DemError::InvalidConfig(
+                "relaxation phase1_damping >= 0 and check_every >= 1".into(),
+            ));
         }
-        if self.target_density.is_some_and(|r| !(r.is_finite() && r > 0.0)) {
-            return Err(DemError::InvalidConfig("relaxation target_density must be positive".into()));
+        if self
+            .target_density
+            .is_some_and(|r| !(r.is_finite() && r > 0.0))
+        {
+            return Err(DemError::InvalidConfig(
+                "relaxation target_density must be positive".into(),
+            ));
         }
         Ok(())
     }
@@ -134,10 +144,17 @@ impl RelaxConfig {
 /// Relaxes a (fully periodic) sample with the two phases of the module docs, using `model` (its material,
 /// law and calibration multipliers; the interaction switches are set per phase). Returns the relaxed
 /// sample, at rest, wrapped into its box, with the report attached.
-pub fn relax(sample: &Sample, model: &PairModel, cfg: &RelaxConfig, par: Parallelism) -> Result<Sample> {
+pub fn relax(
+    sample: &Sample,
+    model: &PairModel,
+    cfg: &RelaxConfig,
+    par: Parallelism,
+) -> Result<Sample> {
     cfg.validate()?;
     if sample.sim_box.periodic != [true; 3] {
-        return Err(DemError::InvalidBox("relaxation needs a box periodic on every axis".into()));
+        return Err(DemError::InvalidBox(
+            "relaxation needs a box periodic on every axis".into(),
+        ));
     }
     let t0 = Instant::now();
     let e = model.material.young_modulus;
@@ -192,7 +209,11 @@ pub fn relax(sample: &Sample, model: &PairModel, cfg: &RelaxConfig, par: Paralle
         steps2 += k;
         worst = max_stress(&sim.virial_stress(None, None));
         if steps2 % (50 * cfg.check_every) == 0 {
-            tracing::info!(step = steps2, max_stress_over_e = worst, "relaxation phase 2");
+            tracing::info!(
+                step = steps2,
+                max_stress_over_e = worst,
+                "relaxation phase 2"
+            );
         }
         if worst < cfg.stress_tolerance {
             converged = true;
@@ -200,7 +221,11 @@ pub fn relax(sample: &Sample, model: &PairModel, cfg: &RelaxConfig, par: Paralle
         }
     }
     if !converged {
-        tracing::warn!(steps = steps2, max_stress_over_e = worst, "relaxation phase 2 did not reach the tolerance");
+        tracing::warn!(
+            steps = steps2,
+            max_stress_over_e = worst,
+            "relaxation phase 2 did not reach the tolerance"
+        );
     }
     let stress = sim.virial_stress(None, None);
     let mut out = sample.clone();
@@ -210,8 +235,14 @@ pub fn relax(sample: &Sample, model: &PairModel, cfg: &RelaxConfig, par: Paralle
     for x in out.particles.pos.iter_mut() {
         bx.wrap(x);
     }
-    out.particles.vel.iter_mut().for_each(|v| *v = Vec3::zeros());
-    out.particles.omega.iter_mut().for_each(|v| *v = Vec3::zeros());
+    out.particles
+        .vel
+        .iter_mut()
+        .for_each(|v| *v = Vec3::zeros());
+    out.particles
+        .omega
+        .iter_mut()
+        .for_each(|v| *v = Vec3::zeros());
     let rho = cfg.target_density.unwrap_or(model.material.density);
     let mass: f64 = out.particles.mass.iter().sum();
     let mass_factor = rho * bx.volume() / mass;

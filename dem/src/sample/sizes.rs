@@ -27,13 +27,23 @@ pub enum SizeDistribution {
     /// Every particle has this diameter.
     Monodisperse { diameter: f64 },
     /// Log-normal of the given mode and (untruncated) standard deviation, truncated to [min, max].
-    LogNormal { mode: f64, std_dev: f64, min: f64, max: f64 },
+    LogNormal {
+        mode: f64,
+        std_dev: f64,
+        min: f64,
+        max: f64,
+    },
 }
 
 impl SizeDistribution {
     /// Paper 000 section 3.2: mode d0, std 0.2 (d_l - d_s), truncated to [d_s, d_l].
     pub fn paper000(d0: f64, d_s: f64, d_l: f64) -> Self {
-        SizeDistribution::LogNormal { mode: d0, std_dev: 0.2 * (d_l - d_s), min: d_s, max: d_l }
+        SizeDistribution::LogNormal {
+            mode: d0,
+            std_dev: 0.2 * (d_l - d_s),
+            min: d_s,
+            max: d_l,
+        }
     }
 
     /// Paper 000 patch tests: d_s = 0.75 d0, d_l = 1.25 d0.
@@ -43,7 +53,12 @@ impl SizeDistribution {
 
     /// Paper 004: mode d0, std 0.1 d0, truncated to [0.75, 1.25] d0.
     pub fn paper004(d0: f64) -> Self {
-        SizeDistribution::LogNormal { mode: d0, std_dev: 0.1 * d0, min: 0.75 * d0, max: 1.25 * d0 }
+        SizeDistribution::LogNormal {
+            mode: d0,
+            std_dev: 0.1 * d0,
+            min: 0.75 * d0,
+            max: 1.25 * d0,
+        }
     }
 
     /// Checks that the parameters describe a drawable distribution.
@@ -55,7 +70,12 @@ impl SizeDistribution {
                     return bad(format!("diameter {diameter} must be positive"));
                 }
             }
-            SizeDistribution::LogNormal { mode, std_dev, min, max } => {
+            SizeDistribution::LogNormal {
+                mode,
+                std_dev,
+                min,
+                max,
+            } => {
                 if ![mode, std_dev, min, max].iter().all(|v| v.is_finite()) {
                     return bad("log-normal parameters must be finite".into());
                 }
@@ -93,7 +113,11 @@ impl SizeDistribution {
             SizeDistribution::Monodisperse { .. } => (0.0, 0.0),
             SizeDistribution::LogNormal { mode, std_dev, .. } => lognormal_params(mode, std_dev),
         };
-        Ok(SizeSampler { dist: *self, mu: log.0, s: log.1 })
+        Ok(SizeSampler {
+            dist: *self,
+            mu: log.0,
+            s: log.1,
+        })
     }
 }
 
@@ -180,7 +204,9 @@ mod tests {
         let sampler = dist.sampler().unwrap();
         let draw = |seed| {
             let mut rng = ChaCha8Rng::seed_from_u64(seed);
-            (0..20_000).map(|_| sampler.draw(&mut rng)).collect::<Vec<f64>>()
+            (0..20_000)
+                .map(|_| sampler.draw(&mut rng))
+                .collect::<Vec<f64>>()
         };
         let a = draw(7);
         assert_eq!(a, draw(7), "same seed, same sizes");
@@ -200,8 +226,17 @@ mod tests {
 
     #[test]
     fn bad_distributions_are_refused() {
-        assert!(SizeDistribution::LogNormal { mode: 1.0, std_dev: 0.1, min: 1.1, max: 2.0 }.sampler().is_err());
-        assert!(SizeDistribution::Monodisperse { diameter: -1.0 }.sampler().is_err());
+        assert!(SizeDistribution::LogNormal {
+            mode: 1.0,
+            std_dev: 0.1,
+            min: 1.1,
+            max: 2.0
+        }
+        .sampler()
+        .is_err());
+        assert!(SizeDistribution::Monodisperse { diameter: -1.0 }
+            .sampler()
+            .is_err());
         assert!(SizeDistribution::paper004(f64::NAN).validate().is_err());
     }
 }

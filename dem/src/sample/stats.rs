@@ -73,7 +73,10 @@ mod tests {
     fn hcp_has_twelve() {
         let (p, bx) = hcp_lattice(6, 6, 4, 90.0, 1.0, [true; 3]).unwrap();
         let c = coordination(&p, &bx, &PairModel::cohesive(Material::table4(0.15)), 1e-9).unwrap();
-        assert!((c.interacting - 12.0).abs() < 1e-12 && (c.contacts - 12.0).abs() < 1e-12, "{c:?}");
+        assert!(
+            (c.interacting - 12.0).abs() < 1e-12 && (c.contacts - 12.0).abs() < 1e-12,
+            "{c:?}"
+        );
         assert_eq!(c.isolated, 0);
     }
 }

@@ -26,7 +26,14 @@ pub struct CurvePoint {
 impl CurvePoint {
     /// Packs a stress tensor into the six components stored.
     pub fn components(s: &Matrix3<f64>) -> [f64; 6] {
-        [s[(0, 0)], s[(1, 1)], s[(2, 2)], s[(0, 1)], s[(0, 2)], s[(1, 2)]]
+        [
+            s[(0, 0)],
+            s[(1, 1)],
+            s[(2, 2)],
+            s[(0, 1)],
+            s[(0, 2)],
+            s[(1, 2)],
+        ]
     }
 }
 
@@ -45,7 +52,11 @@ impl Curve {
         let file = std::fs::File::create(path).map_err(|e| DemError::io(path, e))?;
         let mut w = std::io::BufWriter::new(file);
         let io = |e| DemError::io(path, e);
-        writeln!(w, "step,strain_xy,strain_yy,sxx,syy,szz,sxy,sxz,syz,wall_traction_y,wall_traction_x").map_err(io)?;
+        writeln!(
+            w,
+            "step,strain_xy,strain_yy,sxx,syy,szz,sxy,sxz,syz,wall_traction_y,wall_traction_x"
+        )
+        .map_err(io)?;
         for p in &self.points {
             let s = p.stress;
             writeln!(

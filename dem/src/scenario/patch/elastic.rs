@@ -91,22 +91,33 @@ pub struct ElasticResult {
 
 impl ElasticConfig {
     fn validate(&self) -> Result<()> {
-        for (n, v) in
-            [("stress", self.stress), ("time_step_fraction", self.time_step_fraction), ("tolerance", self.tolerance)]
-        {
+        for (n, v) in [
+            ("stress", self.stress),
+            ("time_step_fraction", self.time_step_fraction),
+            ("tolerance", self.tolerance),
+        ] {
             if !(v.is_finite() && v > 0.0) {
-                return Err(DemError::InvalidConfig(format!("elastic {n} = {v} must be positive")));
+                return Err(DemError::InvalidConfig(format!(
+                    "elastic {n} = {v} must be positive"
+                )));
             }
         }
         if !(self.damping.is_finite() && self.damping >= 0.0) || self.check_every == 0 {
-            return Err(DemError::InvalidConfig("elastic damping >= 0 and check_every >= 1".into()));
+            return Err(DemError::InvalidConfig(
+                "elastic damping >= 0 and check_every >= 1".into(),
+            ));
         }
         Ok(())
     }
 }
 
 /// Runs the elastic test on `sample` with `model` (including its calibration multipliers).
-pub fn elastic(sample: &Sample, model: &PairModel, cfg: &ElasticConfig, par: Parallelism) -> Result<ElasticResult> {
+pub fn elastic(
+    sample: &Sample,
+    model: &PairModel,
+    cfg: &ElasticConfig,
+    par: Parallelism,
+) -> Result<ElasticResult> {
     cfg.validate()?;
     let t0 = Instant::now();
     let run = RunConfig {
@@ -119,7 +130,11 @@ pub fn elastic(sample: &Sample, model: &PairModel, cfg: &ElasticConfig, par: Par
     // Unloaded reference: the residual stress of the sample (zero for a lattice, ~1e-14 E when relaxed).
     let s0 = rig.step_with_stress()?;
     rig.set_top(RigidMotion {
-        axes: [AxisControl::Velocity(0.0), AxisControl::Traction(-cfg.stress * e), AxisControl::Velocity(0.0)],
+        axes: [
+            AxisControl::Velocity(0.0),
+            AxisControl::Traction(-cfg.stress * e),
+            AxisControl::Velocity(0.0),
+        ],
         velocity: Vec3::zeros(),
     });
     let mut curve = Curve::default();
@@ -141,7 +156,11 @@ pub fn elastic(sample: &Sample, model: &PairModel, cfg: &ElasticConfig, par: Par
             wall_traction_y: tr.y,
             wall_traction_x: tr.x,
         });
-        calm = if (eyy - last).abs() < cfg.tolerance * eyy.abs() { calm + 1 } else { 0 };
+        calm = if (eyy - last).abs() < cfg.tolerance * eyy.abs() {
+            calm + 1
+        } else {
+            0
+        };
         last = eyy;
         if calm >= 3 && steps >= cfg.min_steps {
             converged = true;
@@ -151,7 +170,9 @@ pub fn elastic(sample: &Sample, model: &PairModel, cfg: &ElasticConfig, par: Par
     let (_, eyy) = rig.fitted_strains();
     let (_, strain_walls) = rig.strains();
     if eyy >= 0.0 {
-        return Err(DemError::InvalidConfig(format!("elastic test: the sample did not compress (strain {eyy:.3e})")));
+        return Err(DemError::InvalidConfig(format!(
+            "elastic test: the sample did not compress (strain {eyy:.3e})"
+        )));
     }
     let c11 = ds[(1, 1)] / eyy;
     let c12 = ds[(0, 0)] / eyy;

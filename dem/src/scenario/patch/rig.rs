@@ -49,10 +49,15 @@ impl Rig {
     ) -> Result<Self> {
         let bx0 = sample.sim_box;
         if !(bx0.periodic[0] && bx0.periodic[2]) {
-            return Err(DemError::InvalidBox("patch tests need a sample periodic along x and z".into()));
+            return Err(DemError::InvalidBox(
+                "patch tests need a sample periodic along x and z".into(),
+            ));
         }
         if !(walls.thickness.is_finite() && walls.thickness > 0.0) {
-            return Err(DemError::InvalidConfig(format!("wall thickness {} must be positive", walls.thickness)));
+            return Err(DemError::InvalidConfig(format!(
+                "wall thickness {} must be positive",
+                walls.thickness
+            )));
         }
         model.validate()?;
         let mut p = sample.particles.clone();
@@ -83,13 +88,22 @@ impl Rig {
         }
         let free: Vec<bool> = p.group.iter().map(|&g| g == 0).collect();
         let n_free = free.iter().filter(|&&f| f).count();
-        let members = |g: u32| -> Vec<usize> { (0..p.len()).filter(|&i| p.group[i] == g).collect() };
+        let members =
+            |g: u32| -> Vec<usize> { (0..p.len()).filter(|&i| p.group[i] == g).collect() };
         let (bottom, top) = (members(BOTTOM), members(TOP));
         if n_free == 0 || bottom.is_empty() || top.is_empty() {
-            return Err(DemError::InvalidConfig("patch rig needs particles in both walls and between".into()));
+            return Err(DemError::InvalidConfig(
+                "patch rig needs particles in both walls and between".into(),
+            ));
         }
-        let y_bot = bottom.iter().map(|&i| p.pos[i].y).fold(f64::NEG_INFINITY, f64::max);
-        let y_top = top.iter().map(|&i| p.pos[i].y).fold(f64::INFINITY, f64::min);
+        let y_bot = bottom
+            .iter()
+            .map(|&i| p.pos[i].y)
+            .fold(f64::NEG_INFINITY, f64::max);
+        let y_top = top
+            .iter()
+            .map(|&i| p.pos[i].y)
+            .fold(f64::INFINITY, f64::min);
         let offset0 = p.pos[top[0]] - p.pos[bottom[0]];
         let bx = SimBox::new(bx0.lo, bx0.hi, [true, false, true])?;
         let l = bx.lengths();
@@ -133,8 +147,14 @@ impl Rig {
         let y_mean = idx.clone().map(|i| self.pos0[i].y).sum::<f64>() / n;
         let (mut sxx, mut sux, mut suy, mut ux_m, mut uy_m) = (0.0, 0.0, 0.0, 0.0, 0.0);
         // Displacements by minimum image: positions are wrapped along x and z at list rebuilds.
-        let disp: Vec<(f64, Vec3)> =
-            idx.map(|i| (self.pos0[i].y - y_mean, bx.min_image(&self.pos0[i], &p.pos[i]))).collect();
+        let disp: Vec<(f64, Vec3)> = idx
+            .map(|i| {
+                (
+                    self.pos0[i].y - y_mean,
+                    bx.min_image(&self.pos0[i], &p.pos[i]),
+                )
+            })
+            .collect();
         for (_, u) in &disp {
             ux_m += u.x / n;
             uy_m += u.y / n;
@@ -158,13 +178,17 @@ impl Rig {
     pub fn stress(&self) -> Matrix3<f64> {
         let (_, eyy) = self.strains();
         let free = &self.free;
-        self.sim.virial_stress(Some(&|i| free[i]), Some(self.v_free0 * (1.0 + eyy)))
+        self.sim
+            .virial_stress(Some(&|i| free[i]), Some(self.v_free0 * (1.0 + eyy)))
     }
 
     /// Pair force of the sample on the top wall, per unit area (the traction the wall transmits).
     pub fn top_traction(&self) -> Vec3 {
         let f = self.sim.forces();
-        self.top_members.iter().fold(Vec3::zeros(), |a, &i| a + f[i]) / self.area
+        self.top_members
+            .iter()
+            .fold(Vec3::zeros(), |a, &i| a + f[i])
+            / self.area
     }
 
     /// Sets the top wall's motion.

@@ -101,7 +101,11 @@ impl StrengthConfig {
     /// The paper's settings for `mode`; tension runs up to 0.3 strain past the peak so that amorphous
     /// samples, whose bonds re-form behind the crack, separate completely.
     pub fn paper(mode: StrengthMode) -> Self {
-        let post_peak_strain = if mode == StrengthMode::Tensile { 0.3 } else { d_post() };
+        let post_peak_strain = if mode == StrengthMode::Tensile {
+            0.3
+        } else {
+            d_post()
+        };
         StrengthConfig {
             mode,
             strain_rate: d_rate(),
@@ -124,11 +128,17 @@ impl StrengthConfig {
             ("max_strain", self.max_strain),
         ] {
             if !(v.is_finite() && v > 0.0) {
-                return Err(DemError::InvalidConfig(format!("strength {n} = {v} must be positive")));
+                return Err(DemError::InvalidConfig(format!(
+                    "strength {n} = {v} must be positive"
+                )));
             }
         }
-        if !(self.damping.is_finite() && self.damping >= 0.0 && self.stop_below.is_finite()) || self.record_every == 0 {
-            return Err(DemError::InvalidConfig("strength damping >= 0 and record_every >= 1".into()));
+        if !(self.damping.is_finite() && self.damping >= 0.0 && self.stop_below.is_finite())
+            || self.record_every == 0
+        {
+            return Err(DemError::InvalidConfig(
+                "strength damping >= 0 and record_every >= 1".into(),
+            ));
         }
         Ok(())
     }
@@ -168,7 +178,12 @@ pub struct StrengthResult {
 }
 
 /// Runs a strength test on `sample` with `model` (including its calibration multipliers).
-pub fn strength(sample: &Sample, model: &PairModel, cfg: &StrengthConfig, par: Parallelism) -> Result<StrengthResult> {
+pub fn strength(
+    sample: &Sample,
+    model: &PairModel,
+    cfg: &StrengthConfig,
+    par: Parallelism,
+) -> Result<StrengthResult> {
     cfg.validate()?;
     let t0 = Instant::now();
     let tensile = cfg.mode == StrengthMode::Tensile;
@@ -181,10 +196,17 @@ pub fn strength(sample: &Sample, model: &PairModel, cfg: &StrengthConfig, par: P
     let mut rig = Rig::new(sample, model, &cfg.walls, run, par)?;
     rig.sim.step()?;
     let u0 = rig.sim.energy().normal + rig.sim.energy().tangential;
-    rig.sim.set_config(RunConfig { track_energy: false, ..run })?;
+    rig.sim.set_config(RunConfig {
+        track_energy: false,
+        ..run
+    })?;
     let dt = rig.sim.dt();
     let speed = cfg.strain_rate * rig.l0 / dt;
-    let v = if tensile { Vec3::new(0.0, speed, 0.0) } else { Vec3::new(speed, 0.0, 0.0) };
+    let v = if tensile {
+        Vec3::new(0.0, speed, 0.0)
+    } else {
+        Vec3::new(speed, 0.0, 0.0)
+    };
     rig.set_top(RigidMotion::with_velocity(v));
     let component = if tensile { (1, 1) } else { (0, 1) };
     let mut curve = Curve::default();
@@ -224,7 +246,11 @@ pub fn strength(sample: &Sample, model: &PairModel, cfg: &StrengthConfig, par: P
             tracing::info!(mode = ?cfg.mode, step = steps, strain, stress = value, peak, "strength test");
         }
         let past_peak = strain > peak_strain && peak > 0.0;
-        low = if past_peak && value.abs() < cfg.stop_below * peak { low + 1 } else { 0 };
+        low = if past_peak && value.abs() < cfg.stop_below * peak {
+            low + 1
+        } else {
+            0
+        };
         if low >= cfg.stop_records {
             separated = true;
             break;
@@ -247,7 +273,11 @@ pub fn strength(sample: &Sample, model: &PairModel, cfg: &StrengthConfig, par: P
         None
     };
     let m = &model.material;
-    let base = if tensile { m.tensile_strength } else { m.shear_strength };
+    let base = if tensile {
+        m.tensile_strength
+    } else {
+        m.shear_strength
+    };
     let target = target_strength(base, sample.d0, m.critical_diameter(), m.scaling);
     let res = StrengthResult {
         mode: cfg.mode,

@@ -6,7 +6,9 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::{elastic, strength, ElasticConfig, ElasticResult, StrengthConfig, StrengthMode, StrengthResult};
+use super::{
+    elastic, strength, ElasticConfig, ElasticResult, StrengthConfig, StrengthMode, StrengthResult,
+};
 use crate::error::{DemError, Result};
 use crate::io::checkpoint::write_atomic;
 use crate::material::{Material, PairModel, ParamScale};
@@ -21,7 +23,11 @@ use crate::Vec3;
 #[serde(rename_all = "snake_case", tag = "kind", deny_unknown_fields)]
 pub enum SampleSpec {
     /// HCP lattice of L x L x W (paper 000 section 3.1: L = 25 d0, W = 3 d0).
-    Hcp { d0_over_dc: f64, l_over_d0: f64, w_over_d0: f64 },
+    Hcp {
+        d0_over_dc: f64,
+        l_over_d0: f64,
+        w_over_d0: f64,
+    },
     /// Relaxed amorphous sample (section 3.2: L = 100 d0, W = 3 d0, d in [0.75, 1.25] d0). `dl_over_l`
     /// fixes the largest diameter to a fraction of L instead (section 3.3 / A.4: 0.05).
     Amorphous {
@@ -139,15 +145,36 @@ pub struct PatchReport {
 }
 
 /// Builds the sample of `spec` for `model` (amorphous samples are relaxed with `relax`).
-pub fn make_sample(spec: &SampleSpec, model: &PairModel, relax: &RelaxConfig, par: Parallelism) -> Result<Sample> {
+pub fn make_sample(
+    spec: &SampleSpec,
+    model: &PairModel,
+    relax: &RelaxConfig,
+    par: Parallelism,
+) -> Result<Sample> {
     let d_c = model.material.critical_diameter();
     let rho = model.material.density;
     match spec {
-        SampleSpec::Hcp { d0_over_dc, l_over_d0, w_over_d0 } => {
+        SampleSpec::Hcp {
+            d0_over_dc,
+            l_over_d0,
+            w_over_d0,
+        } => {
             let d0 = d0_over_dc * d_c;
-            Sample::hcp(Vec3::new(l_over_d0 * d0, l_over_d0 * d0, w_over_d0 * d0), d0, rho)
+            Sample::hcp(
+                Vec3::new(l_over_d0 * d0, l_over_d0 * d0, w_over_d0 * d0),
+                d0,
+                rho,
+            )
         }
-        SampleSpec::Amorphous { d0_over_dc, l_over_d0, w_over_d0, ds_over_d0, dl_over_d0, dl_over_l, seed } => {
+        SampleSpec::Amorphous {
+            d0_over_dc,
+            l_over_d0,
+            w_over_d0,
+            ds_over_d0,
+            dl_over_d0,
+            dl_over_l,
+            seed,
+        } => {
             let d0 = d0_over_dc * d_c;
             let l = l_over_d0 * d0;
             let dl = dl_over_l.map_or(dl_over_d0 * d0, |f| (f * l).max(d0));
@@ -167,9 +194,13 @@ pub fn make_sample(spec: &SampleSpec, model: &PairModel, relax: &RelaxConfig, pa
 fn with_d0(spec: &SampleSpec, v: f64) -> Result<SampleSpec> {
     let mut s = spec.clone();
     match &mut s {
-        SampleSpec::Hcp { d0_over_dc, .. } | SampleSpec::Amorphous { d0_over_dc, .. } => *d0_over_dc = v,
+        SampleSpec::Hcp { d0_over_dc, .. } | SampleSpec::Amorphous { d0_over_dc, .. } => {
+            *d0_over_dc = v
+        }
         SampleSpec::File { .. } => {
-            return Err(DemError::InvalidConfig("a d0 sweep needs a generated sample, not a file".into()))
+            return Err(DemError::InvalidConfig(
+                "a d0 sweep needs a generated sample, not a file".into(),
+            ))
         }
     }
     Ok(s)
@@ -180,7 +211,9 @@ fn with_d0(spec: &SampleSpec, v: f64) -> Result<SampleSpec> {
 pub fn run_suite(suite: &PatchSuite, out: Option<&Path>, par: Parallelism) -> Result<PatchReport> {
     let or_base = |v: &Vec<f64>, base: f64| if v.is_empty() { vec![base] } else { v.clone() };
     let base_d0 = match &suite.sample {
-        SampleSpec::Hcp { d0_over_dc, .. } | SampleSpec::Amorphous { d0_over_dc, .. } => Some(*d0_over_dc),
+        SampleSpec::Hcp { d0_over_dc, .. } | SampleSpec::Amorphous { d0_over_dc, .. } => {
+            Some(*d0_over_dc)
+        }
         SampleSpec::File { .. } => None,
     };
     let d0s: Vec<Option<f64>> = if suite.sweep.d0_over_dc.is_empty() {
@@ -193,8 +226,11 @@ pub fn run_suite(suite: &PatchSuite, out: Option<&Path>, par: Parallelism) -> Re
         for &s in &or_base(&suite.sweep.scaling, suite.material.scaling) {
             for &nu in &or_base(&suite.sweep.poisson_ratio, suite.material.poisson_ratio) {
                 let k = cases.len();
-                let mut model =
-                    PairModel::cohesive(Material { poisson_ratio: nu, scaling: s, ..suite.material.clone() });
+                let mut model = PairModel::cohesive(Material {
+                    poisson_ratio: nu,
+                    scaling: s,
+                    ..suite.material.clone()
+                });
                 model.scale = suite.scale;
                 model.validate()?;
                 let spec = match d0 {
@@ -223,9 +259,15 @@ pub fn run_suite(suite: &PatchSuite, out: Option<&Path>, par: Parallelism) -> Re
                 };
                 for kind in &suite.tests {
                     match kind {
-                        PatchKind::Elastic => case.elastic = Some(elastic(&sample, &model, &suite.elastic, par)?),
-                        PatchKind::Tensile => case.tensile = Some(strength(&sample, &model, &suite.tensile, par)?),
-                        PatchKind::Shear => case.shear = Some(strength(&sample, &model, &suite.shear, par)?),
+                        PatchKind::Elastic => {
+                            case.elastic = Some(elastic(&sample, &model, &suite.elastic, par)?)
+                        }
+                        PatchKind::Tensile => {
+                            case.tensile = Some(strength(&sample, &model, &suite.tensile, par)?)
+                        }
+                        PatchKind::Shear => {
+                            case.shear = Some(strength(&sample, &model, &suite.shear, par)?)
+                        }
                     }
                 }
                 if let Some(dir) = out {
@@ -233,20 +275,31 @@ pub fn run_suite(suite: &PatchSuite, out: Option<&Path>, par: Parallelism) -> Re
                 }
                 cases.push(case);
                 if let Some(dir) = out {
-                    write_report(dir, &PatchReport { config: suite.clone(), cases: cases.clone() })?;
+                    write_report(
+                        dir,
+                        &PatchReport {
+                            config: suite.clone(),
+                            cases: cases.clone(),
+                        },
+                    )?;
                 }
             }
         }
     }
-    Ok(PatchReport { config: suite.clone(), cases })
+    Ok(PatchReport {
+        config: suite.clone(),
+        cases,
+    })
 }
 
 fn write_case_curves(dir: &Path, k: usize, case: &PatchCase) -> Result<()> {
     if let Some(r) = &case.elastic {
-        r.curve.write_csv(&dir.join(format!("case{k}_elastic.csv")))?;
+        r.curve
+            .write_csv(&dir.join(format!("case{k}_elastic.csv")))?;
     }
     if let Some(r) = &case.tensile {
-        r.curve.write_csv(&dir.join(format!("case{k}_tensile.csv")))?;
+        r.curve
+            .write_csv(&dir.join(format!("case{k}_tensile.csv")))?;
     }
     if let Some(r) = &case.shear {
         r.curve.write_csv(&dir.join(format!("case{k}_shear.csv")))?;
@@ -257,7 +310,9 @@ fn write_case_curves(dir: &Path, k: usize, case: &PatchCase) -> Result<()> {
 /// Writes `report.json` (pretty, atomically) in `dir`.
 pub fn write_report(dir: &Path, report: &PatchReport) -> Result<()> {
     let path = dir.join("report.json");
-    let bytes = serde_json::to_vec_pretty(report)
-        .map_err(|e| DemError::Format { path: path.display().to_string(), reason: e.to_string() })?;
+    let bytes = serde_json::to_vec_pretty(report).map_err(|e| DemError::Format {
+        path: path.display().to_string(),
+        reason: e.to_string(),
+    })?;
     write_atomic(&path, &bytes)
 }
