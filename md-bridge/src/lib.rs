@@ -18,6 +18,7 @@ pub mod card;
 pub mod doctor;
 pub mod error;
 pub mod job;
+pub mod junction;
 pub mod lammps;
 pub mod loading;
 pub mod model;

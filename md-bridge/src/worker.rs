@@ -16,6 +16,9 @@ fn execute(lmp: &Lammps, venv: &Venv, job: &Job) -> Result<JobOutput> {
             crate::silica::run(lmp, &pot, cfg).map(|r| JobOutput::Silica(Box::new(r)))
         }
         Job::Model(cfg) => crate::model::run(lmp, cfg).map(|r| JobOutput::Model(Box::new(r))),
+        Job::Junction(cfg) => {
+            crate::junction::run(lmp, cfg).map(|r| JobOutput::Junction(Box::new(r)))
+        }
         Job::Script {
             commands,
             read_variables,

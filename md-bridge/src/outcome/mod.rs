@@ -28,7 +28,8 @@ pub enum Outcome {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ClassifyParams {
-    /// rad; half a turn: a rolled particle has visibly turned over.
+    /// rad; above pi/2, the most a junction's shape can turn under any amount of homogeneous
+    /// shear (polar rotation atan(gamma/2)), so only a body that rolls gets past it.
     pub min_turn: f64,
     /// Non-rigid / rigid displacement ratio; 0.5 sits between rolling (~0) and shear flow (~1).
     pub max_rigidity: f64,
@@ -39,7 +40,7 @@ pub struct ClassifyParams {
 impl Default for ClassifyParams {
     fn default() -> Self {
         Self {
-            min_turn: std::f64::consts::PI,
+            min_turn: 2.0,
             max_rigidity: 0.5,
             axes: (0, 1),
         }
