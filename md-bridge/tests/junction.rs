@@ -9,21 +9,42 @@ use md_bridge::junction::{run, JunctionConfig};
 use md_bridge::outcome::Outcome;
 
 fn config(width: f64) -> JunctionConfig {
-    JunctionConfig { width, length_factor: 2.0, slab_factor: 0.35, ..JunctionConfig::default() }
+    JunctionConfig {
+        width,
+        length_factor: 2.0,
+        slab_factor: 0.35,
+        ..JunctionConfig::default()
+    }
 }
 
 #[test]
 fn junctions_below_and_above_d_star_give_opposite_outcomes() {
     let small = run(&common::lammps(), &config(12.0)).unwrap();
     let v = &small.verdict;
-    eprintln!("D = 12: {:?} turn {:.2} rigidity {:.2}", v.outcome, v.turn, v.rigidity);
+    eprintln!(
+        "D = 12: {:?} turn {:.2} rigidity {:.2}",
+        v.outcome, v.turn, v.rigidity
+    );
     assert_eq!(v.outcome, Outcome::PlasticSmoothing, "{v:?}");
-    assert!(v.turn.abs() < 1.0, "a smoothed junction does not roll: {}", v.turn);
+    assert!(
+        v.turn.abs() < 1.0,
+        "a smoothed junction does not roll: {}",
+        v.turn
+    );
 
     let large = run(&common::lammps(), &config(50.0)).unwrap();
     let v = &large.verdict;
-    eprintln!("D = 50: {:?} turn {:.2} rigidity {:.2}", v.outcome, v.turn, v.rigidity);
-    assert_eq!(v.outcome, Outcome::WearParticle, "turn {} rigidity {}", v.turn, v.rigidity);
+    eprintln!(
+        "D = 50: {:?} turn {:.2} rigidity {:.2}",
+        v.outcome, v.turn, v.rigidity
+    );
+    assert_eq!(
+        v.outcome,
+        Outcome::WearParticle,
+        "turn {} rigidity {}",
+        v.turn,
+        v.rigidity
+    );
     // Corroboration from the force history: once detached, the top wall drags a rolling particle.
     assert!(v.force_late_over_peak.unwrap() < 0.5, "{v:?}");
     assert!(large.junction_atoms > 1000 && small.junction_atoms < 100);
