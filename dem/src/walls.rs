@@ -132,32 +132,38 @@ impl RigidIndex {
         Ok(RigidIndex { bodies, is_rigid })
     }
 
-    /// Refuses rigid groups whose particles' bounding boxes intersect.
+    /// Refuses rigid groups that occupy the same region: the bounding boxes of their particle centres
+    /// intersect (closed intervals) on every axis. Walls facing each other, and rigid bodies merely in
+    /// contact (even pressed into each other, as when probing a pair), pass; two walls placed in the
+    /// same slab, or interleaved, do not.
     pub fn check_overlaps(&self, groups: &[Group], parts: &Particles) -> Result<()> {
         let bounds: Vec<Option<(Vec3, Vec3)>> = self
             .bodies
             .iter()
             .map(|(_, m, _)| {
                 m.iter().fold(None, |acc: Option<(Vec3, Vec3)>, &i| {
-                    let (x, r) = (parts.pos[i as usize], parts.radius[i as usize]);
-                    let (lo, hi) = (x.add_scalar(-r), x.add_scalar(r));
+                    let x = parts.pos[i as usize];
                     Some(match acc {
-                        None => (lo, hi),
-                        Some((a, b)) => (a.inf(&lo), b.sup(&hi)),
+                        None => (x, x),
+                        Some((a, b)) => (a.inf(&x), b.sup(&x)),
                     })
                 })
             })
             .collect();
+        let fmt = |v: Vec3| format!("({:.4e}, {:.4e}, {:.4e})", v.x, v.y, v.z);
         for a in 0..bounds.len() {
             for b in a + 1..bounds.len() {
                 if let (Some((alo, ahi)), Some((blo, bhi))) = (bounds[a], bounds[b]) {
-                    if (0..3).all(|k| alo[k] < bhi[k] && blo[k] < ahi[k]) {
+                    if (0..3).all(|k| alo[k] <= bhi[k] && blo[k] <= ahi[k]) {
                         return Err(DemError::OverlappingRigidGroups {
                             a: groups[self.bodies[a].0].name.clone(),
                             b: groups[self.bodies[b].0].name.clone(),
                             detail: format!(
-                                "bounding boxes [{:.4e}, {:.4e}] and [{:.4e}, {:.4e}] intersect on every axis",
-                                alo, ahi, blo, bhi
+                                "their particle centres span {} to {} and {} to {}, which intersect on every axis",
+                                fmt(alo),
+                                fmt(ahi),
+                                fmt(blo),
+                                fmt(bhi)
                             ),
                         });
                     }

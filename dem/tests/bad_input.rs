@@ -56,15 +56,30 @@ fn invalid_particles() {
 
 #[test]
 fn overlapping_walls() {
-    let mut p = pair_of(1.0, -0.5);
-    p.group = vec![1, 2];
+    // Two walls assigned to the same bottom slab, interleaved particle by particle.
+    let (mut p, bx) =
+        dem::sample::hcp::hcp_lattice(4, 4, 6, 2.0, 1.0, [true, true, false]).unwrap();
+    for i in 0..p.len() {
+        if p.pos[i].z < 3.0 {
+            p.group[i] = 1 + (i % 2) as u32;
+        }
+    }
     let groups = vec![
         Group::free("all"),
-        Group::rigid("a", RigidMotion::frozen()),
-        Group::rigid("b", RigidMotion::frozen()),
+        Group::rigid("floor", RigidMotion::frozen()),
+        Group::rigid("lid", RigidMotion::frozen()),
     ];
-    let e = try_new(p, PairModel::cohesive(Material::table4(0.1)), groups).unwrap_err();
+    let e = Simulation::new(
+        p,
+        bx,
+        PairModel::cohesive(Material::table4(0.1)),
+        groups,
+        RunConfig::default(),
+        Parallelism::Sequential,
+    )
+    .unwrap_err();
     assert!(matches!(e, DemError::OverlappingRigidGroups { .. }), "{e}");
+    assert!(e.to_string().contains("'floor' and 'lid'"), "{e}");
 }
 
 #[test]

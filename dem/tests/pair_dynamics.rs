@@ -43,6 +43,7 @@ fn hookean_pair_oscillates_with_the_analytic_period() {
     }
     let measured = (crossings[5] - crossings[0]) / 5.0;
     let err = (measured - period).abs() / period;
+    eprintln!("period: measured {measured:.6e}, analytic {period:.6e}, error {err:.2e}");
     assert!(
         err < 0.005,
         "period {measured} vs 2 pi sqrt(m_eff/k_N) = {period}: error {err:.2e}"
@@ -133,6 +134,7 @@ fn linearised_damping_gives_exp_of_minus_one_minus_eta() {
     for eta in [0.5, 0.9, 0.95] {
         let e = restitution(eta, DampingModel::Linearised);
         let expect = (-(1.0 - eta)).exp();
+        eprintln!("restitution, eta {eta}: measured {e:.5}, exp(-(1-eta)) {expect:.5}");
         assert!(
             ((e - expect) / expect).abs() < 0.01,
             "eta {eta}: restitution {e} vs exp(-(1-eta)) = {expect}"
@@ -143,6 +145,7 @@ fn linearised_damping_gives_exp_of_minus_one_minus_eta() {
 #[test]
 fn exact_damping_hits_the_target_restitution() {
     let e = restitution(0.5, DampingModel::Exact);
+    eprintln!("restitution with exact damping for eta 0.5: {e:.5}");
     assert!(
         ((e - 0.5) / 0.5).abs() < 0.01,
         "restitution {e} for target 0.5"
@@ -185,6 +188,10 @@ fn work_to_separate_a_bond_is_the_area_under_eq3() {
         let mat = undamped(0.15);
         let (w, pp) = pull_apart(ri, rj, mat.clone());
         let area = 0.5 * pp.k_n * pp.delta_e * pp.delta_f;
+        eprintln!(
+            "bond work r = ({ri}, {rj}): {w:.6e} vs area {area:.6e} (rel {:.2e})",
+            (w - area) / area
+        );
         assert!(
             ((w - area) / area).abs() < 1e-3,
             "work {w} vs 1/2 k delta_e delta_f = {area}"
