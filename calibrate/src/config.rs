@@ -127,7 +127,13 @@ fn default_targets() -> Vec<Target> {
 /// A checked configuration: the base model, the unit system and the resolved choices.
 #[derive(Debug, Clone)]
 pub struct Prepared {
+    /// Base model; its material is the target except for a design Poisson's ratio (see
+    /// [`design_poisson_ratio`]).
     pub model: PairModel,
+    /// The target material (strengths, nu ... the residuals are measured against).
+    pub target: Material,
+    /// Poisson's ratio the area coefficients A_N, A_T are computed from, when not the target's.
+    pub design_poisson_ratio: Option<f64>,
     pub units: UnitSystem,
     pub sample: SampleSpec,
     pub targets: Vec<Target>,
@@ -142,7 +148,7 @@ impl CalibrationConfig {
 
     /// Checks everything that can be checked without a simulation, and refuses unreachable targets.
     pub fn prepare(&self) -> Result<Prepared> {
-        let (material, units) = match (&self.material, &self.material_si) {
+        let (target, units) = match (&self.material, &self.material_si) {
             (Some(m), None) => (m.clone(), UnitSystem::REDUCED),
             (None, Some(si)) => (si.to_engine(UnitSystem::NANO), UnitSystem::NANO),
             _ => {
@@ -151,12 +157,28 @@ impl CalibrationConfig {
                 ))
             }
         };
-        refuse_unreachable(&material, self.law)?;
+        refuse_unreachable(&target, self.law)?;
+        let material = target.clone();
+        self.solver.validate()?;
         let mut model = match self.law {
             ForceLaw::Cohesive => PairModel::cohesive(material),
             ForceLaw::NormalOnly => PairModel::normal_only(material),
         };
-        model.scale = self.start;
+        let design = design_poisson_ratio(&model);
+        if let Some(nu_d) = design {
+            // Keep k_N at its closed-form value and start from a small tangential stiffness and cap.
+            let an = |nu: f64| 1.0 / (1.0 - 2.0 * nu);
+            let ratio = an(model.material.poisson_ratio) / an(nu_d);
+            model.material.poisson_ratio = nu_d;
+            model.scale = ParamScale {
+                k_n: self.start.k_n * ratio,
+                k_t: self.start.k_t * DESIGN_TANGENTIAL_START,
+                f_mt: self.start.f_mt * DESIGN_TANGENTIAL_START,
+                ..self.start
+            };
+        } else {
+            model.scale = self.start;
+        }
         model.validate()?;
         let unknowns = self.unknowns.clone().unwrap_or_else(|| match self.law {
             ForceLaw::Cohesive => Unknown::ALL.to_vec(),
@@ -199,6 +221,8 @@ impl CalibrationConfig {
         }
         Ok(Prepared {
             model,
+            target,
+            design_poisson_ratio: design,
             units,
             sample,
             targets: self.targets.clone(),
@@ -228,4 +252,19 @@ pub fn refuse_unreachable(m: &Material, law: ForceLaw) -> Result<()> {
         Err(e) => Err(e.into()),
         Ok(()) => Ok(()),
     }
+}
+
+/// Multiplier on the design-nu k_T and F_mT at the start: k_T / k_N = 0.05, small like the closed form's 0.
+const DESIGN_TANGENTIAL_START: f64 = 0.3;
+
+/// Near nu = 1/4 the closed form (eq 16) gives A_T -> 0, so k_T and F_mT vanish and no multiplier can
+/// bring them back, while a lattice without tangential forces has nu above 1/4 (0.277 for HCP): the
+/// target is then out of reach of the multipliers. For targets with (1 - 4 nu) / (1 + nu) < 0.05
+/// (nu > 0.238) the area coefficients are computed at a design Poisson's ratio of 0.2 instead, with the
+/// k_N multiplier set so that the start keeps the closed-form k_N and small k_T, F_mT multipliers. The
+/// card then holds the design value in `model.material.poisson_ratio` (what rebuilds the pair
+/// parameters) and the target in `targets`.
+pub fn design_poisson_ratio(model: &PairModel) -> Option<f64> {
+    let nu = model.material.poisson_ratio;
+    (model.law == ForceLaw::Cohesive && (1.0 - 4.0 * nu) / (1.0 + nu) < 0.05).then_some(0.2)
 }

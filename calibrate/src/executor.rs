@@ -64,7 +64,8 @@ impl Default for Settings {
 }
 
 impl Settings {
-    fn validate(&self) -> Result<()> {
+    /// Checks every setting (also done by [`crate::CalibrationConfig::prepare`], before any simulation).
+    pub fn validate(&self) -> Result<()> {
         for (n, v) in [
             ("tolerance", self.tolerance),
             ("fd_step", self.fd_step),

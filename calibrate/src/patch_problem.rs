@@ -14,7 +14,7 @@
 //! runs sequentially inside (the tests of one evaluation run side by side with rayon): the residuals
 //! are a deterministic, piecewise-smooth function of x.
 
-use dem::material::{PairModel, ParamScale};
+use dem::material::{Material, PairModel, ParamScale};
 use dem::sample::Sample;
 use dem::scenario::patch::{
     elastic, strength, target_strength, ElasticConfig, StrengthConfig, StrengthMode,
@@ -155,7 +155,10 @@ impl Default for TestSettings {
 #[derive(Debug, Clone)]
 pub struct PatchProblem {
     pub sample: Sample,
+    /// Base model (first guess); its material may carry a design Poisson's ratio.
     pub model: PairModel,
+    /// Target properties.
+    pub target: Material,
     pub targets: Vec<Target>,
     pub unknowns: Vec<Unknown>,
     pub tests: TestSettings,
@@ -173,7 +176,7 @@ impl PatchProblem {
 
     /// Target value of `t` for this sample (strengths from eq 20 at the sample's d0).
     pub fn target(&self, t: Target) -> f64 {
-        let m = &self.model.material;
+        let m = &self.target;
         let (d0, dc) = (self.sample.d0, m.critical_diameter());
         match t {
             Target::YoungModulus => m.young_modulus,

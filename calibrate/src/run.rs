@@ -39,6 +39,7 @@ pub fn problem(cfg: &CalibrationConfig, out: &Path, par: Parallelism) -> Result<
     Ok(PatchProblem {
         sample,
         model: p.model,
+        target: p.target,
         targets: p.targets,
         unknowns: p.unknowns,
         tests: p.tests,
@@ -54,6 +55,8 @@ pub fn calibrate(
     stop_after: Option<usize>,
 ) -> Result<Outcome> {
     let t0 = std::time::Instant::now();
+    // Refusals and config errors come before any file or simulation.
+    let p = cfg.prepare()?;
     std::fs::create_dir_all(out).map_err(|e| CalibrateError::io(out, e))?;
     let prob = problem(cfg, out, par)?;
     let description =
@@ -66,7 +69,6 @@ pub fn calibrate(
     let fp = ex.fingerprint().to_string();
     let cp = ex.run()?;
     let r0 = &cp.r0;
-    let p = cfg.prepare()?;
     let card = CalibratedCard {
         units: if cfg.material_si.is_some() {
             "nano"
@@ -90,11 +92,22 @@ pub fn calibrate(
             iterations: cp.state.iteration,
             evaluations: cp.state.evaluations,
             wall_seconds: t0.elapsed().as_secs_f64(),
-            notes: vec![
+            notes: p
+                .design_poisson_ratio
+                .map(|nu| {
+                    format!(
+                        "model.material.poisson_ratio = {nu} is a design value (A_N, A_T of eqs 15-16 \
+                         are computed from it); the target nu is in [targets]: the closed form \
+                         gives k_T = 0 near nu = 1/4, which multipliers cannot leave"
+                    )
+                })
+                .into_iter()
+                .chain([
                 "the sample was made once with the first-guess multipliers and kept fixed; \
                  reuse sample_file to reproduce the calibrated properties"
-                    .into(),
-            ],
+                    .to_string(),
+            ])
+            .collect(),
         },
     };
     card.write(&out.join("card.toml"))?;

@@ -1,0 +1,237 @@
+//! The executor and the Levenberg-Marquardt step on analytic least-squares problems with known minima:
+//! convergence, finite differences vs analytic Jacobian, failed evaluations, and resume bit for bit.
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use calibrate::{
+    CalibrateError, Checkpoint, EvalFailure, Evaluation, Executor, Problem, Settings, Status,
+};
+
+/// Fit y = a exp(b t) to exact data from (a, b) = (2, -0.5): x = (ln a, b), minimum residual 0.
+struct ExpFit {
+    analytic: bool,
+    /// Evaluations with x0 > this fail (a "collapsed sample" region).
+    fail_above: f64,
+    calls: AtomicUsize,
+}
+
+impl ExpFit {
+    fn new(analytic: bool) -> Self {
+        ExpFit {
+            analytic,
+            fail_above: f64::INFINITY,
+            calls: AtomicUsize::new(0),
+        }
+    }
+    fn ts() -> impl Iterator<Item = f64> {
+        (0..8).map(|i| 0.5 * i as f64)
+    }
+}
+
+impl Problem for ExpFit {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn residual_names(&self) -> Vec<String> {
+        Self::ts().map(|t| format!("t{t}")).collect()
+    }
+    fn residuals(&self, x: &[f64]) -> Evaluation {
+        self.calls.fetch_add(1, Ordering::SeqCst);
+        if x[0] > self.fail_above {
+            return Err(EvalFailure("collapsed".into()));
+        }
+        Ok(Self::ts()
+            .map(|t| x[0].exp() * (x[1] * t).exp() - 2.0 * (-0.5 * t).exp())
+            .collect())
+    }
+    fn jacobian(&self, x: &[f64]) -> Option<Vec<Vec<f64>>> {
+        self.analytic.then(|| {
+            Self::ts()
+                .map(|t| {
+                    let v = x[0].exp() * (x[1] * t).exp();
+                    vec![v, t * v]
+                })
+                .collect()
+        })
+    }
+}
+
+fn settings() -> Settings {
+    Settings {
+        tolerance: 1e-10,
+        max_iterations: 100,
+        fd_step: 1e-6,
+        min_step: 1e-14,
+        ..Settings::default()
+    }
+}
+
+fn assert_at_minimum(cp: &Checkpoint, tol: f64) {
+    assert_eq!(cp.state.status, Status::Converged, "{:?}", cp.state.status);
+    assert!((cp.state.x[0] - 2f64.ln()).abs() < tol, "{:?}", cp.state.x);
+    assert!((cp.state.x[1] + 0.5).abs() < tol, "{:?}", cp.state.x);
+}
+
+#[test]
+fn converges_to_the_known_minimum_with_analytic_and_fd_jacobians() {
+    for analytic in [true, false] {
+        let p = ExpFit::new(analytic);
+        let cp = Executor::new(&p, vec![0.0, 0.3], settings(), "exp")
+            .run()
+            .unwrap();
+        assert_at_minimum(&cp, 1e-8);
+        // Every accepted step lowered the cost; the start was far off.
+        assert!(0.5 * cp.r0.iter().map(|r| r * r).sum::<f64>() > 1.0);
+        for rec in cp.history.iter().filter(|r| r.accepted) {
+            assert!(rec.cost_trial.unwrap() < rec.cost);
+        }
+    }
+}
+
+#[test]
+fn rosenbrock_valley_is_followed_to_its_minimum() {
+    struct Rosen;
+    impl Problem for Rosen {
+        fn dim(&self) -> usize {
+            2
+        }
+        fn residual_names(&self) -> Vec<String> {
+            vec!["a".into(), "b".into()]
+        }
+        fn residuals(&self, x: &[f64]) -> Evaluation {
+            Ok(vec![10.0 * (x[1] - x[0] * x[0]), 1.0 - x[0]])
+        }
+    }
+    let s = Settings {
+        max_step: 10.0,
+        ..settings()
+    };
+    let cp = Executor::new(&Rosen, vec![-1.2, 1.0], s, "rosen")
+        .run()
+        .unwrap();
+    assert_eq!(cp.state.status, Status::Converged);
+    assert!((cp.state.x[0] - 1.0).abs() < 1e-9 && (cp.state.x[1] - 1.0).abs() < 1e-9);
+}
+
+#[test]
+fn failed_evaluations_are_recorded_and_rejected_not_fatal() {
+    // The minimum (ln 2 = 0.69) lies just below the failing region; big first steps overshoot into it.
+    let mut p = ExpFit::new(true);
+    p.fail_above = 0.75;
+    let s = Settings {
+        max_step: 2.0,
+        ..settings()
+    };
+    let cp = Executor::new(&p, vec![-2.0, 0.0], s, "exp-fail")
+        .run()
+        .unwrap();
+    assert_at_minimum(&cp, 1e-8);
+    let failed: Vec<_> = cp.history.iter().filter(|r| r.failure.is_some()).collect();
+    assert!(
+        !failed.is_empty(),
+        "the test should provoke a failed evaluation"
+    );
+    assert!(failed.iter().all(|r| !r.accepted && r.r_trial.is_none()));
+}
+
+#[test]
+fn a_failing_first_guess_is_an_error() {
+    let mut p = ExpFit::new(true);
+    p.fail_above = -1.0;
+    let e = Executor::new(&p, vec![0.0, 0.0], settings(), "x")
+        .run()
+        .unwrap_err();
+    assert!(matches!(e, CalibrateError::StartFailed(_)), "{e}");
+}
+
+fn strip_times(mut cp: Checkpoint) -> Checkpoint {
+    cp.history.iter_mut().for_each(|r| r.seconds = 0.0);
+    cp
+}
+
+#[test]
+fn a_killed_run_resumes_to_the_same_result_bit_for_bit_without_redoing_work() {
+    let tmp = std::env::temp_dir().join(format!("calibrate-resume-{}", std::process::id()));
+    let (a, b) = (tmp.join("a"), tmp.join("b"));
+    let _ = std::fs::remove_dir_all(&tmp);
+    let s = Settings {
+        fd_step: 1e-4,
+        ..settings()
+    };
+    let whole = ExpFit::new(false);
+    let full = Executor::new(&whole, vec![0.0, 0.3], s, "exp")
+        .checkpoint_dir(&a)
+        .run()
+        .unwrap();
+    assert_at_minimum(&full, 1e-6);
+
+    let first = ExpFit::new(false);
+    let part = Executor::new(&first, vec![0.0, 0.3], s, "exp")
+        .checkpoint_dir(&b)
+        .stop_after(2)
+        .run()
+        .unwrap();
+    assert_eq!(part.state.status, Status::Running);
+    assert_eq!(part.state.iteration, 2);
+    let second = ExpFit::new(false);
+    let resumed = Executor::new(&second, vec![0.0, 0.3], s, "exp")
+        .checkpoint_dir(&b)
+        .run()
+        .unwrap();
+    assert_eq!(strip_times(resumed.clone()), strip_times(full.clone()));
+    for (p, q) in resumed.state.x.iter().zip(&full.state.x) {
+        assert_eq!(p.to_bits(), q.to_bits());
+    }
+    // Nothing done before the "kill" is redone: the two halves evaluate as often as the whole run.
+    let (n1, n2, n) = (
+        first.calls.load(Ordering::SeqCst),
+        second.calls.load(Ordering::SeqCst),
+        whole.calls.load(Ordering::SeqCst),
+    );
+    assert_eq!(n1 + n2, n, "{n1} + {n2} evaluations vs {n}");
+    // A rerun of a finished calibration evaluates nothing.
+    let third = ExpFit::new(false);
+    let again = Executor::new(&third, vec![0.0, 0.3], s, "exp")
+        .checkpoint_dir(&b)
+        .run()
+        .unwrap();
+    assert_eq!(third.calls.load(Ordering::SeqCst), 0);
+    assert_eq!(strip_times(again), strip_times(full));
+    // Other inputs refuse the checkpoint instead of mixing two calibrations.
+    let e = Executor::new(&third, vec![0.1, 0.3], s, "exp")
+        .checkpoint_dir(&b)
+        .run()
+        .unwrap_err();
+    assert!(matches!(e, CalibrateError::ForeignCheckpoint { .. }), "{e}");
+    let _ = std::fs::remove_dir_all(&tmp);
+}
+
+#[test]
+fn underdetermined_problems_take_minimum_norm_like_steps() {
+    // One residual x0 + x1 - 2 in two unknowns: any point on the line is a minimum; from the origin,
+    // the damped steps stay on the symmetric (minimum-norm) path x0 = x1 = 1.
+    struct Line;
+    impl Problem for Line {
+        fn dim(&self) -> usize {
+            2
+        }
+        fn residual_names(&self) -> Vec<String> {
+            vec!["line".into()]
+        }
+        fn residuals(&self, x: &[f64]) -> Evaluation {
+            Ok(vec![x[0] + x[1] - 2.0])
+        }
+        fn jacobian(&self, _x: &[f64]) -> Option<Vec<Vec<f64>>> {
+            Some(vec![vec![1.0, 1.0]])
+        }
+    }
+    let s = Settings {
+        max_step: 10.0,
+        ..settings()
+    };
+    let cp = Executor::new(&Line, vec![0.0, 0.0], s, "line")
+        .run()
+        .unwrap();
+    assert_eq!(cp.state.status, Status::Converged);
+    assert!((cp.state.x[0] - 1.0).abs() < 1e-9 && (cp.state.x[1] - 1.0).abs() < 1e-9);
+}
