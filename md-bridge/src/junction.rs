@@ -35,6 +35,9 @@ pub struct JunctionConfig {
     pub frames: usize,
     pub seed: u64,
     pub classify: ClassifyParams,
+    /// LAMMPS dump of every frame (OVITO reads it), relative to the working directory (the job
+    /// directory for worker jobs); None writes nothing.
+    pub dump_file: Option<String>,
 }
 
 impl Default for JunctionConfig {
@@ -52,6 +55,7 @@ impl Default for JunctionConfig {
             frames: 60,
             seed: 777,
             classify: ClassifyParams::default(),
+            dump_file: Some("junction.dump".into()),
         }
     }
 }
@@ -167,15 +171,16 @@ fix bath bath langevin {t} {t} 1.0 {s2}
 fix e2d all enforce2d
 variable ft equal f_ftop[1]
 thermo_style custom step temp pe f_ftop[1]
-thermo 0
-dump frames all atom {every} junction.dump",
+thermo 0",
         t2 = 2.0 * cfg.temperature,
         t = cfg.temperature,
         s2 = s + 1,
         v = cfg.velocity,
         fy = -cfg.normal_pressure * lx / ntop,
-        every = frame_steps(cfg, d),
     ))?;
+    if let Some(f) = &cfg.dump_file {
+        lmp.command(&format!("dump frames all atom {} {f}", frame_steps(cfg, d)))?;
+    }
     let n = lmp.natoms()? as usize;
     let ids = lmp.gather_i32("id", 1)?;
     let x0 = lmp.gather_f64("x", 3)?;

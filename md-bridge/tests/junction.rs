@@ -13,6 +13,7 @@ fn config(width: f64) -> JunctionConfig {
         width,
         length_factor: 2.0,
         slab_factor: 0.35,
+        dump_file: None,
         ..JunctionConfig::default()
     }
 }
