@@ -38,6 +38,11 @@ fn free_cluster_conserves_linear_and_angular_momentum() {
     let mut s = sim(p, bx, model, config(0.1));
     s.run(10_000).unwrap();
     let after = momentum(&s.particles);
+    eprintln!(
+        "cluster: |dP| / sum|p| = {:.2e}, |dL| / sum|l| = {:.2e}",
+        (after.0 - before.0).norm() / before.2,
+        (after.1 - before.1).norm() / before.3
+    );
     assert!(
         (after.0 - before.0).norm() <= 1e-12 * before.2,
         "linear momentum {:?} -> {:?}",
