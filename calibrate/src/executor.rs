@@ -201,7 +201,14 @@ impl<'a, P: Problem> Executor<'a, P> {
     /// An executor starting at `x0`; `description` identifies the problem for checkpoints (e.g. its
     /// serialised configuration).
     pub fn new(problem: &'a P, x0: Vec<f64>, settings: Settings, description: &str) -> Self {
-        let set = serde_json::to_vec(&settings).unwrap_or_default();
+        // The stopping rules (budget, tolerance) do not change the trajectory, only where it ends:
+        // left out of the fingerprint so that a finished run can be resumed with a larger budget.
+        let path = Settings {
+            max_iterations: 0,
+            tolerance: 0.0,
+            ..settings
+        };
+        let set = serde_json::to_vec(&path).unwrap_or_default();
         let fingerprint = fingerprint(&[description.as_bytes(), &set, &bits(&x0)]);
         Executor {
             ev: Evaluator {
@@ -330,6 +337,11 @@ impl<'a, P: Problem> Executor<'a, P> {
                     });
                 }
                 tracing::info!(iteration = cp.state.iteration, "resuming from checkpoint");
+                let mut cp = cp;
+                if matches!(cp.state.status, Status::Converged | Status::MaxIterations) {
+                    // Re-judged with the current stopping rules (a larger budget continues).
+                    cp.state.status = Status::Running;
+                }
                 return Ok(cp);
             }
         }

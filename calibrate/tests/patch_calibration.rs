@@ -5,7 +5,7 @@
 
 use std::path::PathBuf;
 
-use calibrate::{calibrate, verify, CalibrationConfig, Checkpoint, Status};
+use calibrate::{calibrate, verify, CalibrationConfig, Checkpoint, Properties, Status};
 
 const BASE: &str =
     "[material]\nyoung_modulus = 1.0\ntensile_strength = 0.2\nshear_strength = 0.1\n\
@@ -84,7 +84,9 @@ fn elastic_targets_converge_and_the_card_reproduces_them() {
 #[test]
 fn killed_calibration_resumes_to_the_same_result_bit_for_bit() {
     let (a, b) = (tmp("whole"), tmp("killed"));
-    let cfg = config(0.15, ELASTIC_ONLY, "");
+    // A start far from the answer, so that the run takes several steps and can be cut midway.
+    let far = "[start]\nk_n = 1.4\nk_t = 0.5\ndelta_e = 1.0\ndelta_f = 1.0\nf_mt = 1.0\n";
+    let cfg = config(0.15, ELASTIC_ONLY, far);
     let whole = calibrate(&cfg, &a, dem::Parallelism::Sequential, None).unwrap();
     assert!(
         whole.checkpoint.state.iteration >= 2,

@@ -196,7 +196,23 @@ fn a_killed_run_resumes_to_the_same_result_bit_for_bit_without_redoing_work() {
         .run()
         .unwrap();
     assert_eq!(third.calls.load(Ordering::SeqCst), 0);
-    assert_eq!(strip_times(again), strip_times(full));
+    assert_eq!(strip_times(again), strip_times(full.clone()));
+    // A run stopped by its budget continues when the budget grows, to the same end point.
+    let c = tmp.join("c");
+    let small = Settings {
+        max_iterations: 2,
+        ..s
+    };
+    let stopped = Executor::new(&third, vec![0.0, 0.3], small, "exp")
+        .checkpoint_dir(&c)
+        .run()
+        .unwrap();
+    assert_eq!(stopped.state.status, Status::MaxIterations);
+    let more = Executor::new(&third, vec![0.0, 0.3], s, "exp")
+        .checkpoint_dir(&c)
+        .run()
+        .unwrap();
+    assert_eq!(strip_times(more), strip_times(full.clone()));
     // Other inputs refuse the checkpoint instead of mixing two calibrations.
     let e = Executor::new(&third, vec![0.1, 0.3], s, "exp")
         .checkpoint_dir(&b)

@@ -9,7 +9,8 @@ use std::time::{Duration, Instant};
 const TINY: &str = "targets = [\"young_modulus\", \"poisson_ratio\"]\nunknowns = [\"k_n\", \"k_t\"]\n\
     [material]\nyoung_modulus = 1.0\npoisson_ratio = NU\ntensile_strength = 0.2\nshear_strength = 0.1\n\
     surface_energy = 1.5\nrestitution = 0.95\ndensity = 1.0\n\
-    [sample]\nkind = \"hcp\"\nd0_over_dc = 0.6\nl_over_d0 = 8.0\nw_over_d0 = 3.0\n";
+    [sample]\nkind = \"hcp\"\nd0_over_dc = 0.6\nl_over_d0 = 8.0\nw_over_d0 = 3.0\n\
+    [start]\nk_n = 1.4\nk_t = 0.5\ndelta_e = 1.0\ndelta_f = 1.0\nf_mt = 1.0\n";
 
 fn dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("cgdem-cal-{name}-{}", std::process::id()));
