@@ -452,7 +452,14 @@ impl PairCoefficients {
     #[inline(always)]
     pub fn range(&self, ri: f64, rj: f64) -> (f64, f64) {
         let d = ri + rj;
-        (d, if self.cohesion { self.raw_delta_f(d) } else { 0.0 })
+        (
+            d,
+            if self.cohesion {
+                self.raw_delta_f(d)
+            } else {
+                0.0
+            },
+        )
     }
 
     #[inline]
@@ -463,16 +470,40 @@ impl PairCoefficients {
 
     /// [`PairCoefficients::params`] with the pair's [`PairCoefficients::range`] already computed.
     #[inline(always)]
-    pub fn params_in_range(&self, ri: f64, rj: f64, d: f64, df: f64, mi: f64, mj: f64) -> PairParams {
+    pub fn params_in_range(
+        &self,
+        ri: f64,
+        rj: f64,
+        d: f64,
+        df: f64,
+        mi: f64,
+        mj: f64,
+    ) -> PairParams {
         let reff = ri.min(rj);
         let r2 = reff * reff;
         let r2_over_d = r2 / d;
         let k_n = self.kn_coef * r2_over_d;
         let k_t = self.kt_coef * r2_over_d;
         // c_T / c_N = sqrt(k_T / k_N) is a material constant: one square root per pair, none undamped.
-        let c_n = if self.damp == 0.0 { 0.0 } else { self.damp * (k_n * (mi * mj / (mi + mj))).sqrt() };
-        let delta_e = if self.cohesion { (d * self.strain_e * self.scale_de).min(df) } else { 0.0 };
-        PairParams { k_n, k_t, delta_e, delta_f: df, f_mt: self.fmt_coef * r2, c_n, c_t: c_n * self.ct_over_cn }
+        let c_n = if self.damp == 0.0 {
+            0.0
+        } else {
+            self.damp * (k_n * (mi * mj / (mi + mj))).sqrt()
+        };
+        let delta_e = if self.cohesion {
+            (d * self.strain_e * self.scale_de).min(df)
+        } else {
+            0.0
+        };
+        PairParams {
+            k_n,
+            k_t,
+            delta_e,
+            delta_f: df,
+            f_mt: self.fmt_coef * r2,
+            c_n,
+            c_t: c_n * self.ct_over_cn,
+        }
     }
 }
 

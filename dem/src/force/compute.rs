@@ -80,13 +80,29 @@ struct Ctx<'a> {
 impl Ctx<'_> {
     #[inline(always)]
     fn separation(&self, i: usize, j: usize, image: [i8; 3]) -> Vec3 {
-        let s = Vec3::new(image[0] as f64, image[1] as f64, image[2] as f64).component_mul(&self.lengths);
+        let s = Vec3::new(image[0] as f64, image[1] as f64, image[2] as f64)
+            .component_mul(&self.lengths);
         self.kin[j].x + s - self.kin[i].x
     }
 
     #[inline(always)]
-    fn eval<const T: bool>(&self, ki: &Kin, kj: &Kin, d: Vec3, hist: &mut Vec3) -> (PairOut, PairEnergy) {
-        let inp = PairInput { d, dv: ki.v - kj.v, wi: ki.w, wj: kj.w, ri: ki.r, rj: kj.r, mi: ki.m, mj: kj.m };
+    fn eval<const T: bool>(
+        &self,
+        ki: &Kin,
+        kj: &Kin,
+        d: Vec3,
+        hist: &mut Vec3,
+    ) -> (PairOut, PairEnergy) {
+        let inp = PairInput {
+            d,
+            dv: ki.v - kj.v,
+            wi: ki.w,
+            wj: kj.w,
+            ri: ki.r,
+            rj: kj.r,
+            mi: ki.m,
+            mj: kj.m,
+        };
         pair::<T>(self.coef, &inp, hist, self.dt)
     }
 }
@@ -111,11 +127,23 @@ impl ForceBuffers {
         let mut kin = std::mem::take(&mut self.kin);
         kin.resize(n, Kin::default());
         for (i, k) in kin.iter_mut().enumerate() {
-            *k = Kin { x: parts.pos[i], v: parts.vel[i], w: parts.omega[i], r: parts.radius[i], m: parts.mass[i] };
+            *k = Kin {
+                x: parts.pos[i],
+                v: parts.vel[i],
+                w: parts.omega[i],
+                r: parts.radius[i],
+                m: parts.mass[i],
+            };
         }
-        let ctx = Ctx { coef, kin: &kin, lengths: bx.lengths(), dt };
+        let ctx = Ctx {
+            coef,
+            kin: &kin,
+            lengths: bx.lengths(),
+            dt,
+        };
         let totals = {
-            let _s = tracing::trace_span!("pairs", np = list.len(), parallel = phase.parallel).entered();
+            let _s =
+                tracing::trace_span!("pairs", np = list.len(), parallel = phase.parallel).entered();
             match (coef.tangential, phase.parallel, phase.energy) {
                 (true, false, true) => self.direct::<true, true>(&ctx, list, phase),
                 (true, false, false) => self.direct::<true, false>(&ctx, list, phase),
@@ -180,7 +208,12 @@ impl ForceBuffers {
     }
 
     /// Several threads: pairs into the buffer in parallel, then the ordered gather.
-    fn buffered<const T: bool>(&mut self, ctx: &Ctx, list: &mut NeighborList, phase: ForcePhase) -> PairEnergyTotals {
+    fn buffered<const T: bool>(
+        &mut self,
+        ctx: &Ctx,
+        list: &mut NeighborList,
+        phase: ForcePhase,
+    ) -> PairEnergyTotals {
         let np = list.len();
         self.out.resize(np, PairOut::default());
         if phase.energy {
@@ -188,18 +221,19 @@ impl ForceBuffers {
         }
         {
             let (li, lj, limg) = (&list.i, &list.j, &list.image);
-            let run = |start: usize, out: &mut [PairOut], hist: &mut [Vec3], en: &mut [PairEnergy]| {
-                for k in 0..out.len() {
-                    let p = start + k;
-                    let (i, j) = (li[p] as usize, lj[p] as usize);
-                    let d = ctx.separation(i, j, limg[p]);
-                    let (o, e) = ctx.eval::<T>(&ctx.kin[i], &ctx.kin[j], d, &mut hist[k]);
-                    out[k] = o;
-                    if !en.is_empty() {
-                        en[k] = e;
+            let run =
+                |start: usize, out: &mut [PairOut], hist: &mut [Vec3], en: &mut [PairEnergy]| {
+                    for k in 0..out.len() {
+                        let p = start + k;
+                        let (i, j) = (li[p] as usize, lj[p] as usize);
+                        let d = ctx.separation(i, j, limg[p]);
+                        let (o, e) = ctx.eval::<T>(&ctx.kin[i], &ctx.kin[j], d, &mut hist[k]);
+                        out[k] = o;
+                        if !en.is_empty() {
+                            en[k] = e;
+                        }
                     }
-                }
-            };
+                };
             if phase.energy {
                 self.out
                     .par_chunks_mut(PAIR_CHUNK)
@@ -272,15 +306,19 @@ impl ForceBuffers {
 
     fn gather_virial(&mut self, ctx: &Ctx, list: &NeighborList) {
         let out = &self.out;
-        self.virial.par_chunks_mut(PARTICLE_CHUNK).enumerate().for_each(|(c, w)| {
-            for k in 0..w.len() {
-                let mut acc = Matrix3::zeros();
-                Self::for_each_contribution(list, c * PARTICLE_CHUNK + k, |p, _| {
-                    let d = ctx.separation(list.i[p] as usize, list.j[p] as usize, list.image[p]);
-                    acc += -0.5 * d * out[p].f.transpose();
-                });
-                w[k] = acc;
-            }
-        });
+        self.virial
+            .par_chunks_mut(PARTICLE_CHUNK)
+            .enumerate()
+            .for_each(|(c, w)| {
+                for k in 0..w.len() {
+                    let mut acc = Matrix3::zeros();
+                    Self::for_each_contribution(list, c * PARTICLE_CHUNK + k, |p, _| {
+                        let d =
+                            ctx.separation(list.i[p] as usize, list.j[p] as usize, list.image[p]);
+                        acc += -0.5 * d * out[p].f.transpose();
+                    });
+                    w[k] = acc;
+                }
+            });
     }
 }
