@@ -59,8 +59,12 @@ pub fn calibrate(
     let p = cfg.prepare()?;
     std::fs::create_dir_all(out).map_err(|e| CalibrateError::io(out, e))?;
     let prob = problem(cfg, out, par)?;
+    let mut path = cfg.clone();
+    // Budget and tolerance only decide where the run stops (see `Executor::new`).
+    path.solver.max_iterations = 0;
+    path.solver.tolerance = 0.0;
     let description =
-        toml::to_string(cfg).map_err(|e| CalibrateError::InvalidConfig(e.to_string()))?;
+        toml::to_string(&path).map_err(|e| CalibrateError::InvalidConfig(e.to_string()))?;
     let x0 = vec![0.0; prob.unknowns.len()];
     let mut ex = Executor::new(&prob, x0, cfg.solver, &description).checkpoint_dir(out);
     if let Some(k) = stop_after {
