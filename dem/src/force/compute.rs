@@ -1,10 +1,9 @@
-//! The force phase, in two interchangeable forms that produce bit-identical results:
-//! - one thread: each pair is evaluated and added straight into the per-particle sums (no buffer);
-//! - several threads: pairs are evaluated in parallel into a per-pair buffer, then each particle gathers
-//!   its contributions in exactly the order the one-thread loop added them (increasing pair index: the
-//!   pairs where it is the second particle, then its own row), so the floating-point sums are the same.
-//!
-//! Energies are summed in pair order in both forms.
+//! The force phase. Particles are cut into fixed blocks; each block walks its rows and adds every pair
+//! that stays inside the block straight into both particles' sums, parking only the pairs that reach
+//! into a later block, which are added afterwards per particle in pair order. Blocks are the same for
+//! any thread count and every sum happens in the same order, so one thread and many give bit-identical
+//! results, while almost all pairs avoid the per-pair buffer. Energies are summed block by block in
+//! block order.
 
 use nalgebra::Matrix3;
 use rayon::prelude::*;
@@ -16,16 +15,15 @@ use crate::neighbor::NeighborList;
 use crate::state::Particles;
 use crate::Vec3;
 
-/// Pairs per parallel task: large enough to amortise scheduling, small enough to balance two cores.
-const PAIR_CHUNK: usize = 2048;
-/// Particles per parallel task in the gather.
-const PARTICLE_CHUNK: usize = 1024;
+/// Particles per block: a block's pairs mostly stay inside it (rows of neighbours in memory), and a
+/// 50 000-particle system still splits into ~25 tasks for the cores. Fixed, so results never depend on
+/// the thread count.
+const BLOCK: usize = 2048;
 
 /// Scratch reused from step to step (resized only when the neighbour list changes size).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct ForceBuffers {
     pub out: Vec<PairOut>,
-    pub energy: Vec<PairEnergy>,
     pub force: Vec<Vec3>,
     pub torque: Vec<Vec3>,
     /// Per-particle virial sum_j 1/2 (x_i - x_j) (x) F_ij (filled when requested).
@@ -142,183 +140,174 @@ impl ForceBuffers {
             dt,
         };
         let totals = {
-            let _s =
-                tracing::trace_span!("pairs", np = list.len(), parallel = phase.parallel).entered();
-            match (coef.tangential, phase.parallel, phase.energy) {
-                (true, false, true) => self.direct::<true, true>(&ctx, list, phase),
-                (true, false, false) => self.direct::<true, false>(&ctx, list, phase),
-                (false, false, true) => self.direct::<false, true>(&ctx, list, phase),
-                (false, false, false) => self.direct::<false, false>(&ctx, list, phase),
-                (true, true, _) => self.buffered::<true>(&ctx, list, phase),
-                (false, true, _) => self.buffered::<false>(&ctx, list, phase),
+            let _s = tracing::trace_span!("pairs", np = list.len()).entered();
+            match (coef.tangential, phase.energy) {
+                (true, true) => self.blocked::<true, true>(&ctx, list, phase),
+                (true, false) => self.blocked::<true, false>(&ctx, list, phase),
+                (false, true) => self.blocked::<false, true>(&ctx, list, phase),
+                (false, false) => self.blocked::<false, false>(&ctx, list, phase),
             }
         };
         self.kin = kin;
         totals
     }
 
-    /// One thread: evaluate and accumulate in pair order. Rows are walked particle by particle: the first
-    /// particle's sums stay in registers for its row, which adds in the same order as pair by pair.
-    fn direct<const T: bool, const E: bool>(
+    /// The pair loop over fixed blocks of `BLOCK` particles (the same blocks for any thread count).
+    /// Phase 1, one task per block: rows are walked in order; a pair whose second particle lies in the
+    /// same block adds to both particles at once, a pair reaching into a later block adds to its first
+    /// particle and parks its output in `out`. Phase 2, per particle: the parked contributions of earlier
+    /// blocks are added in pair order. The sums therefore happen in the same order whether the blocks run
+    /// on one thread or many: bit-identical results.
+    fn blocked<const T: bool, const E: bool>(
         &mut self,
         ctx: &Ctx,
         list: &mut NeighborList,
         phase: ForcePhase,
     ) -> PairEnergyTotals {
+        let n = ctx.kin.len();
+        self.out.resize(list.len(), PairOut::default());
         self.force.iter_mut().for_each(|f| *f = Vec3::zeros());
         self.torque.iter_mut().for_each(|t| *t = Vec3::zeros());
         if phase.virial {
             self.virial.iter_mut().for_each(|w| *w = Matrix3::zeros());
+        } else {
+            self.virial.clear();
         }
-        let mut totals = PairEnergyTotals::default();
-        let (force, torque, virial) = (&mut self.force, &mut self.torque, &mut self.virial);
-        for i in 0..ctx.kin.len() {
-            let (rs, re) = (list.row_start[i] as usize, list.row_start[i + 1] as usize);
-            if rs == re {
-                continue;
-            }
-            let ki = ctx.kin[i];
-            let (mut fi, mut ti) = (force[i], torque[i]);
-            for p in rs..re {
-                let j = list.j[p] as usize;
-                let d = ctx.separation(i, j, list.image[p]);
-                let (o, e) = ctx.eval::<T>(&ki, &ctx.kin[j], d, &mut list.hist[p]);
-                fi += o.f;
-                ti += o.ai * o.nxf;
-                if j == i {
-                    fi -= o.f;
-                    ti += o.aj * o.nxf;
-                } else {
-                    force[j] -= o.f;
-                    torque[j] += o.aj * o.nxf;
-                }
-                if phase.virial {
-                    let w = -0.5 * d * o.f.transpose();
-                    virial[i] += w;
-                    virial[j] += w;
-                }
-                if E {
-                    totals.add(&e);
-                }
-            }
-            force[i] = fi;
-            torque[i] = ti;
-        }
-        totals
-    }
-
-    /// Several threads: pairs into the buffer in parallel, then the ordered gather.
-    fn buffered<const T: bool>(
-        &mut self,
-        ctx: &Ctx,
-        list: &mut NeighborList,
-        phase: ForcePhase,
-    ) -> PairEnergyTotals {
-        let np = list.len();
-        self.out.resize(np, PairOut::default());
-        if phase.energy {
-            self.energy.resize(np, PairEnergy::default());
-        }
+        // Split the pair arrays at block boundaries (rows are contiguous per particle).
+        let nb = n.div_ceil(BLOCK);
+        let mut tasks = Vec::with_capacity(nb);
         {
-            let (li, lj, limg) = (&list.i, &list.j, &list.image);
-            let run =
-                |start: usize, out: &mut [PairOut], hist: &mut [Vec3], en: &mut [PairEnergy]| {
-                    for k in 0..out.len() {
-                        let p = start + k;
-                        let (i, j) = (li[p] as usize, lj[p] as usize);
-                        let d = ctx.separation(i, j, limg[p]);
-                        let (o, e) = ctx.eval::<T>(&ctx.kin[i], &ctx.kin[j], d, &mut hist[k]);
-                        out[k] = o;
-                        if !en.is_empty() {
-                            en[k] = e;
+            let (mut hist, mut out) = (&mut list.hist[..], &mut self.out[..]);
+            let mut force = self.force.chunks_mut(BLOCK);
+            let mut torque = self.torque.chunks_mut(BLOCK);
+            let mut virial = self.virial.chunks_mut(BLOCK);
+            for b in 0..nb {
+                let rows = list.row_start[(b * BLOCK).min(n)] as usize
+                    ..list.row_start[((b + 1) * BLOCK).min(n)] as usize;
+                let (h, hr) = std::mem::take(&mut hist).split_at_mut(rows.len());
+                let (o, or) = std::mem::take(&mut out).split_at_mut(rows.len());
+                hist = hr;
+                out = or;
+                tasks.push((
+                    b,
+                    h,
+                    o,
+                    force.next().unwrap_or_default(),
+                    torque.next().unwrap_or_default(),
+                    virial.next(),
+                ));
+            }
+        }
+        let (lj, limg, rows) = (&list.j, &list.image, &list.row_start);
+        let run = |(b, hist, out, f, t, mut w): (
+            usize,
+            &mut [Vec3],
+            &mut [PairOut],
+            &mut [Vec3],
+            &mut [Vec3],
+            Option<&mut [Matrix3<f64>]>,
+        )| {
+            let (k0, k1) = (b * BLOCK, ((b + 1) * BLOCK).min(n));
+            let p0 = rows[k0] as usize;
+            let mut totals = PairEnergyTotals::default();
+            for i in k0..k1 {
+                let ki = ctx.kin[i];
+                let (mut fi, mut ti) = (f[i - k0], t[i - k0]);
+                for p in rows[i] as usize..rows[i + 1] as usize {
+                    let j = lj[p] as usize;
+                    let d = ctx.separation(i, j, limg[p]);
+                    let (o, e) = ctx.eval::<T>(&ki, &ctx.kin[j], d, &mut hist[p - p0]);
+                    fi += o.f;
+                    ti += o.ai * o.nxf;
+                    if j == i {
+                        fi -= o.f;
+                        ti += o.aj * o.nxf;
+                    } else if j < k1 {
+                        f[j - k0] -= o.f;
+                        t[j - k0] += o.aj * o.nxf;
+                    } else {
+                        out[p - p0] = o;
+                    }
+                    if let Some(w) = w.as_deref_mut() {
+                        let wp = -0.5 * d * o.f.transpose();
+                        w[i - k0] += wp;
+                        if j < k1 {
+                            w[j - k0] += wp;
                         }
                     }
-                };
-            if phase.energy {
-                self.out
-                    .par_chunks_mut(PAIR_CHUNK)
-                    .zip(list.hist.par_chunks_mut(PAIR_CHUNK))
-                    .zip(self.energy.par_chunks_mut(PAIR_CHUNK))
-                    .enumerate()
-                    .for_each(|(c, ((o, h), e))| run(c * PAIR_CHUNK, o, h, e));
-            } else {
-                self.out
-                    .par_chunks_mut(PAIR_CHUNK)
-                    .zip(list.hist.par_chunks_mut(PAIR_CHUNK))
-                    .enumerate()
-                    .for_each(|(c, (o, h))| run(c * PAIR_CHUNK, o, h, &mut []));
+                    if E {
+                        totals.add(&e);
+                    }
+                }
+                f[i - k0] = fi;
+                t[i - k0] = ti;
             }
+            totals
+        };
+        let partial: Vec<PairEnergyTotals> = if phase.parallel {
+            tasks.into_par_iter().map(run).collect()
+        } else {
+            tasks.into_iter().map(run).collect()
+        };
+        let mut totals = PairEnergyTotals::default();
+        for p in &partial {
+            totals.normal += p.normal;
+            totals.tangential += p.tangential;
+            totals.damping_power += p.damping_power;
+            totals.slid += p.slid;
         }
         let _g = tracing::trace_span!("gather").entered();
-        self.gather(list);
-        if phase.virial {
-            self.gather_virial(ctx, list);
-        }
-        let mut totals = PairEnergyTotals::default();
-        if phase.energy {
-            self.energy.iter().for_each(|e| totals.add(e));
-        }
+        self.gather_parked(ctx, list, phase);
         totals
     }
 
-    /// Calls `f(pair, sign)` for every contribution to particle `k` in increasing pair order:
-    /// sign -1 where `k` is the second particle, +1 where it is the first (both for a self-image pair).
-    #[inline(always)]
-    fn for_each_contribution(list: &NeighborList, k: usize, mut f: impl FnMut(usize, f64)) {
-        let (row_s, row_e) = (list.row_start[k] as usize, list.row_start[k + 1] as usize);
-        for &p in &list.rev_pair[list.rev_start[k] as usize..list.rev_start[k + 1] as usize] {
-            if (p as usize) < row_s {
-                f(p as usize, -1.0);
-            }
-        }
-        for p in row_s..row_e {
-            f(p, 1.0);
-            if list.j[p] as usize == k {
-                f(p, -1.0);
-            }
-        }
-    }
-
-    fn gather(&mut self, list: &NeighborList) {
+    /// Phase 2: each particle adds the outputs parked by pairs of earlier blocks, in pair order.
+    fn gather_parked(&mut self, ctx: &Ctx, list: &NeighborList, phase: ForcePhase) {
         let out = &self.out;
-        self.force
-            .par_chunks_mut(PARTICLE_CHUNK)
-            .zip(self.torque.par_chunks_mut(PARTICLE_CHUNK))
-            .enumerate()
-            .for_each(|(c, (f, t))| {
-                for k in 0..f.len() {
-                    let (mut fk, mut tk) = (Vec3::zeros(), Vec3::zeros());
-                    Self::for_each_contribution(list, c * PARTICLE_CHUNK + k, |p, sign| {
-                        let o = &out[p];
-                        if sign > 0.0 {
-                            fk += o.f;
-                            tk += o.ai * o.nxf;
-                        } else {
-                            fk -= o.f;
-                            tk += o.aj * o.nxf;
-                        }
-                    });
-                    f[k] = fk;
-                    t[k] = tk;
+        let parked = |k: usize| {
+            let k0 = (k / BLOCK) * BLOCK;
+            list.rev_pair[list.rev_start[k] as usize..list.rev_start[k + 1] as usize]
+                .iter()
+                .map(|&p| p as usize)
+                .filter(move |&p| (list.i[p] as usize) < k0)
+        };
+        let run = |c: usize, f: &mut [Vec3], t: &mut [Vec3], w: Option<&mut [Matrix3<f64>]>| {
+            let mut w = w;
+            for k in 0..f.len() {
+                let kk = c * BLOCK + k;
+                for p in parked(kk) {
+                    let o = &out[p];
+                    f[k] -= o.f;
+                    t[k] += o.aj * o.nxf;
+                    if let Some(w) = w.as_deref_mut() {
+                        let d = ctx.separation(list.i[p] as usize, kk, list.image[p]);
+                        w[k] += -0.5 * d * o.f.transpose();
+                    }
                 }
-            });
-    }
-
-    fn gather_virial(&mut self, ctx: &Ctx, list: &NeighborList) {
-        let out = &self.out;
-        self.virial
-            .par_chunks_mut(PARTICLE_CHUNK)
+            }
+        };
+        let virial: Vec<Option<&mut [Matrix3<f64>]>> = if phase.virial {
+            self.virial.chunks_mut(BLOCK).map(Some).collect()
+        } else {
+            (0..self.force.len().div_ceil(BLOCK))
+                .map(|_| None)
+                .collect()
+        };
+        let tasks: Vec<_> = self
+            .force
+            .chunks_mut(BLOCK)
+            .zip(self.torque.chunks_mut(BLOCK))
+            .zip(virial)
             .enumerate()
-            .for_each(|(c, w)| {
-                for k in 0..w.len() {
-                    let mut acc = Matrix3::zeros();
-                    Self::for_each_contribution(list, c * PARTICLE_CHUNK + k, |p, _| {
-                        let d =
-                            ctx.separation(list.i[p] as usize, list.j[p] as usize, list.image[p]);
-                        acc += -0.5 * d * out[p].f.transpose();
-                    });
-                    w[k] = acc;
-                }
-            });
+            .collect();
+        if phase.parallel {
+            tasks
+                .into_par_iter()
+                .for_each(|(c, ((f, t), w))| run(c, f, t, w));
+        } else {
+            tasks
+                .into_iter()
+                .for_each(|(c, ((f, t), w))| run(c, f, t, w));
+        }
     }
 }
