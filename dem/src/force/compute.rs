@@ -67,6 +67,16 @@ pub(crate) struct Kin {
     m: f64,
 }
 
+/// One block's share of the mutable arrays: its pairs' history and parked outputs, its particles' sums.
+struct BlockTask<'a> {
+    b: usize,
+    hist: &'a mut [Vec3],
+    out: &'a mut [PairOut],
+    f: &'a mut [Vec3],
+    t: &'a mut [Vec3],
+    w: Option<&'a mut [Matrix3<f64>]>,
+}
+
 /// Read-only inputs of the pair loop.
 struct Ctx<'a> {
     coef: &'a PairCoefficients,
@@ -188,25 +198,25 @@ impl ForceBuffers {
                 let (o, or) = std::mem::take(&mut out).split_at_mut(rows.len());
                 hist = hr;
                 out = or;
-                tasks.push((
+                tasks.push(BlockTask {
                     b,
-                    h,
-                    o,
-                    force.next().unwrap_or_default(),
-                    torque.next().unwrap_or_default(),
-                    virial.next(),
-                ));
+                    hist: h,
+                    out: o,
+                    f: force.next().unwrap_or_default(),
+                    t: torque.next().unwrap_or_default(),
+                    w: virial.next(),
+                });
             }
         }
         let (lj, limg, rows) = (&list.j, &list.image, &list.row_start);
-        let run = |(b, hist, out, f, t, mut w): (
-            usize,
-            &mut [Vec3],
-            &mut [PairOut],
-            &mut [Vec3],
-            &mut [Vec3],
-            Option<&mut [Matrix3<f64>]>,
-        )| {
+        let run = |BlockTask {
+                       b,
+                       hist,
+                       out,
+                       f,
+                       t,
+                       mut w,
+                   }: BlockTask<'_>| {
             let (k0, k1) = (b * BLOCK, ((b + 1) * BLOCK).min(n));
             let p0 = rows[k0] as usize;
             let mut totals = PairEnergyTotals::default();
