@@ -179,15 +179,7 @@ pub fn run(a: MdArgs) -> Result<()> {
 }
 
 fn silica(config: Option<&Path>, out: &Path, l: &Launch) -> Result<()> {
-    let cfg: SilicaConfig = match config {
-        Some(p) => {
-            let text =
-                std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
-            toml::from_str(&text)
-                .with_context(|| format!("parsing silica config {}", p.display()))?
-        }
-        None => SilicaConfig::default(),
-    };
+    let cfg: SilicaConfig = read_config(config, "silica")?;
     cfg.validate()?;
     let rec = launch(&Job::Silica(cfg.clone()), l)?;
     let JobOutput::Silica(res) = &rec.output else {
@@ -344,15 +336,7 @@ pub fn bench(a: BenchMdArgs) -> Result<()> {
 }
 
 fn model(config: Option<&Path>, out: &Path, l: &Launch) -> Result<()> {
-    let cfg: md_bridge::model::ModelConfig = match config {
-        Some(p) => {
-            let text =
-                std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
-            toml::from_str(&text)
-                .with_context(|| format!("parsing model config {}", p.display()))?
-        }
-        None => Default::default(),
-    };
+    let cfg: md_bridge::model::ModelConfig = read_config(config, "model")?;
     cfg.validate()?;
     let rec = launch(&Job::Model(cfg.clone()), l)?;
     let JobOutput::Model(r) = &rec.output else {
@@ -381,15 +365,7 @@ fn model(config: Option<&Path>, out: &Path, l: &Launch) -> Result<()> {
 }
 
 fn junction(config: Option<&Path>, width: Option<f64>, out: &Path, l: &Launch) -> Result<()> {
-    let mut cfg: md_bridge::junction::JunctionConfig = match config {
-        Some(p) => {
-            let text =
-                std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
-            toml::from_str(&text)
-                .with_context(|| format!("parsing junction config {}", p.display()))?
-        }
-        None => Default::default(),
-    };
+    let mut cfg: md_bridge::junction::JunctionConfig = read_config(config, "junction")?;
     if let Some(w) = width {
         cfg.width = w;
     }
@@ -418,4 +394,16 @@ fn junction(config: Option<&Path>, width: Option<f64>, out: &Path, l: &Launch) -
     );
     println!("frames: LAMMPS dump `junction.dump` in the job's cache directory");
     Ok(())
+}
+
+/// An optional TOML config file, or the defaults when none is given.
+fn read_config<T: serde::de::DeserializeOwned + Default>(
+    config: Option<&Path>,
+    what: &str,
+) -> Result<T> {
+    let Some(p) = config else {
+        return Ok(T::default());
+    };
+    let text = std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
+    toml::from_str(&text).with_context(|| format!("parsing {what} config {}", p.display()))
 }

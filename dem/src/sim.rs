@@ -460,7 +460,7 @@ impl Simulation {
                 gain,
                 max_strain_step,
             } => {
-                let s = self.stress_from_virial(None);
+                let s = self.virial_stress(None, None);
                 let mut de = Vec3::zeros();
                 for a in 0..3 {
                     if axes[a] {
@@ -541,10 +541,6 @@ impl Simulation {
             }
         }
         -acc / v
-    }
-
-    fn stress_from_virial(&self, select: Option<&dyn Fn(usize) -> bool>) -> Matrix3<f64> {
-        self.virial_stress(select, None)
     }
 
     /// Step at which the per-particle virials were last computed.
