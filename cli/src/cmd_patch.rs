@@ -95,13 +95,16 @@ pub fn run(args: PatchArgs, threads: usize) -> Result<()> {
             .as_ref()
             .map(|r| format!(" shear {:.4} ({:.1} %)", r.strength, 100.0 * r.ratio));
         println!(
-            "case {k}: d0/dc {:?} nu {} s {} n {} vf {:.4} Z {:.2}{}{}{}",
+            "case {k}: d0/dc {:?} nu {} s {} n {} vf {:.4} Z {:.2} compressed {:.0} % gap 5-95 % [{:+.3}, {:+.3}]{}{}{}",
             c.d0_over_dc,
             c.poisson_ratio,
             c.scaling,
             c.particles,
             c.volume_fraction,
             c.coordination.interacting,
+            100.0 * c.gaps.compressed,
+            c.gaps.quantiles[0],
+            c.gaps.quantiles[4],
             e.unwrap_or_default(),
             t.unwrap_or_default(),
             s.unwrap_or_default()

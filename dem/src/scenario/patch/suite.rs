@@ -13,7 +13,7 @@ use crate::error::{DemError, Result};
 use crate::io::checkpoint::write_atomic;
 use crate::material::{Material, PairModel, ParamScale};
 use crate::sample::insert::InsertionConfig;
-use crate::sample::stats::{coordination, Coordination};
+use crate::sample::stats::{coordination, gap_statistics, Coordination, GapStatistics};
 use crate::sample::{amorphous, RelaxConfig, Sample, SizeDistribution};
 use crate::sim::Parallelism;
 use crate::Vec3;
@@ -30,6 +30,8 @@ pub enum SampleSpec {
     },
     /// Relaxed amorphous sample (section 3.2: L = 100 d0, W = 3 d0, d in [0.75, 1.25] d0). `dl_over_l`
     /// fixes the largest diameter to a fraction of L instead (section 3.3 / A.4: 0.05).
+    /// `insert_fraction` is the volume fraction of the random insertion (default 0.75, the paper's); a
+    /// lower one (0.5) leaves holes in the relaxed solid (docs/patch-tests.md, looser packings).
     Amorphous {
         d0_over_dc: f64,
         l_over_d0: f64,
@@ -42,6 +44,10 @@ pub enum SampleSpec {
         dl_over_l: Option<f64>,
         #[serde(default = "d_seed")]
         seed: u64,
+        // Not written when it is the default, so configurations (and calibration fingerprints) made
+        // before this field existed serialise as before.
+        #[serde(default = "d_insert", skip_serializing_if = "is_d_insert")]
+        insert_fraction: f64,
     },
     /// A sample saved by `cgdem sample` or [`Sample::save`].
     File { path: PathBuf },
@@ -55,6 +61,12 @@ fn d_dl() -> f64 {
 }
 fn d_seed() -> u64 {
     1
+}
+fn d_insert() -> f64 {
+    0.75
+}
+fn is_d_insert(v: &f64) -> bool {
+    *v == d_insert()
 }
 
 /// The patch tests.
@@ -131,6 +143,9 @@ pub struct PatchCase {
     pub particles: usize,
     pub volume_fraction: f64,
     pub coordination: Coordination,
+    /// Pair gaps at rest (paper 000 section 3.2's explanation of the low amorphous strengths).
+    #[serde(default)]
+    pub gaps: GapStatistics,
     pub sample_seconds: f64,
     pub elastic: Option<ElasticResult>,
     pub tensile: Option<StrengthResult>,
@@ -174,6 +189,7 @@ pub fn make_sample(
             dl_over_d0,
             dl_over_l,
             seed,
+            insert_fraction,
         } => {
             let d0 = d0_over_dc * d_c;
             let l = l_over_d0 * d0;
@@ -181,7 +197,7 @@ pub fn make_sample(
             let ins = InsertionConfig {
                 lengths: Vec3::new(l, l, w_over_d0 * d0),
                 sizes: SizeDistribution::paper000(d0, ds_over_d0 * d0, dl),
-                volume_fraction: 0.75,
+                volume_fraction: *insert_fraction,
                 density: rho,
                 seed: *seed,
             };
@@ -245,6 +261,7 @@ pub fn run_suite(suite: &PatchSuite, out: Option<&Path>, par: Parallelism) -> Re
                     sample.save(&dir.join(format!("case{k}_sample.json")))?;
                 }
                 let coord = coordination(&sample.particles, &sample.sim_box, &model, 1e-3)?;
+                let gaps = gap_statistics(&sample.particles, &sample.sim_box, &model)?;
                 let mut case = PatchCase {
                     d0_over_dc: *d0,
                     poisson_ratio: nu,
@@ -252,6 +269,7 @@ pub fn run_suite(suite: &PatchSuite, out: Option<&Path>, par: Parallelism) -> Re
                     particles: sample.particles.len(),
                     volume_fraction: sample.volume_fraction(),
                     coordination: coord,
+                    gaps,
                     sample_seconds,
                     elastic: None,
                     tensile: None,
@@ -315,4 +333,32 @@ pub fn write_report(dir: &Path, report: &PatchReport) -> Result<()> {
         reason: e.to_string(),
     })?;
     write_atomic(&path, &bytes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn insert_fraction_defaults_to_the_papers_and_is_not_written_then() {
+        let json =
+            r#"{"kind": "amorphous", "d0_over_dc": 0.6, "l_over_d0": 10.0, "w_over_d0": 3.0}"#;
+        let spec: SampleSpec = serde_json::from_str(json).unwrap();
+        match &spec {
+            SampleSpec::Amorphous {
+                insert_fraction, ..
+            } => assert_eq!(*insert_fraction, 0.75),
+            _ => panic!("{spec:?}"),
+        }
+        // The default is not serialised, so older configurations keep their fingerprints.
+        assert!(!serde_json::to_string(&spec)
+            .unwrap()
+            .contains("insert_fraction"));
+        let loose = r#"{"kind": "amorphous", "d0_over_dc": 0.6, "l_over_d0": 10.0, "w_over_d0": 3.0,
+                        "insert_fraction": 0.5}"#;
+        let spec: SampleSpec = serde_json::from_str(loose).unwrap();
+        assert!(serde_json::to_string(&spec)
+            .unwrap()
+            .contains("\"insert_fraction\":0.5"));
+    }
 }
