@@ -259,7 +259,7 @@ pub struct PairModel {
 }
 
 /// The seven parameters of one pair (paper 000 Table 2), already including multipliers and switches.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct PairParams {
     pub k_n: f64,
     pub k_t: f64,

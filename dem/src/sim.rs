@@ -183,6 +183,8 @@ impl Simulation {
             )));
         }
         self.coef = PairCoefficients::new(&self.model);
+        // Per-pair constants depend on radii, masses and the model: recompute them before the next step.
+        self.buffers.invalidate();
         self.rigid = RigidIndex::new(&self.groups, &self.particles)?;
         self.rigid.check_overlaps(&self.groups, &self.particles)?;
         self.box_control.validate(&self.sim_box)?;

@@ -29,17 +29,28 @@
 //! Decision: the damping force c_T v_T is added outside the cap (the paper caps F_T only, eq 4), as in
 //! LAMMPS's granular models.
 
-use crate::material::{PairCoefficients, PairParams};
+use super::pair_consts::{ConstWindow, Lane, LaneConsts, LANES};
+use crate::material::PairParams;
 use crate::Vec3;
 
 /// Normal force F_N(delta_N) of eq (3); positive is cohesive (attractive).
-#[inline(always)]
+#[inline]
 pub fn normal_force(p: &PairParams, dn: f64) -> f64 {
     if dn <= p.delta_e {
         p.k_n * dn
     } else if dn <= p.delta_f {
-        // delta_f > delta_e strictly here, so no division by zero.
-        -p.k_n * p.delta_e / (p.delta_f - p.delta_e) * (dn - p.delta_f)
+        // Reached only when delta_f > delta_e, so the slope is finite.
+        softening_slope(p) * (p.delta_f - dn)
+    } else {
+        0.0
+    }
+}
+
+/// The slope k_N delta_e / (delta_f - delta_e) of eq (3)'s softening branch (0 when there is none).
+#[inline]
+pub(crate) fn softening_slope(p: &PairParams) -> f64 {
+    if p.delta_f > p.delta_e {
+        p.k_n * p.delta_e / (p.delta_f - p.delta_e)
     } else {
         0.0
     }
@@ -63,7 +74,7 @@ pub fn normal_energy(p: &PairParams, dn: f64) -> f64 {
 }
 
 /// Cap of the tangential force F'_mT of eq (5).
-#[inline(always)]
+#[inline]
 pub fn tangential_cap(p: &PairParams, dn: f64) -> f64 {
     if dn <= 0.0 {
         p.f_mt
@@ -75,134 +86,242 @@ pub fn tangential_cap(p: &PairParams, dn: f64) -> f64 {
 /// Rotates `h` (in the plane normal to `a`) by the smallest rotation that takes unit `a` to unit `b`
 /// (Rodrigues, with k = a x b, c = a . b and `inv_1pc` = 1 / (1 + c)): the spring turns with the pair
 /// and keeps its length.
-#[inline(always)]
+#[cfg(test)]
 fn rotate_between(h: Vec3, a: &Vec3, b: &Vec3, inv_1pc: f64) -> Vec3 {
     let k = a.cross(b);
     h * a.dot(b) + k.cross(&h) + k * (k.dot(&h) * inv_1pc)
 }
 
-/// What one pair contributes, kept per pair and gathered per particle afterwards.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct PairOut {
-    /// Force on i (the force on j is its opposite).
-    pub f: Vec3,
-    /// n x F: the torque on i is a_i (n x F), on j a_j (n x F).
-    pub nxf: Vec3,
-    /// Lever arm of i.
-    pub ai: f64,
-    /// Lever arm of j.
-    pub aj: f64,
-}
-
-/// Energy bookkeeping of one pair for one step.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct PairEnergy {
-    /// Normal potential energy (zero when separated).
-    pub normal: f64,
-    /// Elastic energy of the tangential spring, 1/2 k_T |delta_T|^2.
-    pub tangential: f64,
-    /// Power dissipated by the pair dampers, c_N v_N^2 + c_T |v_T|^2.
-    pub damping_power: f64,
-    /// Tangential spring energy released by sliding or by the shrinking cap this step.
-    pub slid: f64,
-}
-
-/// Inputs of one pair.
-#[derive(Debug, Clone, Copy)]
-pub struct PairInput {
+/// Structure-of-arrays inputs and outputs of `LANES` consecutive pairs (scratch, reused).
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Batch {
     /// Separation x_j(image) - x_i.
-    pub d: Vec3,
+    pub d: [Lane; 3],
     /// v_i - v_j.
-    pub dv: Vec3,
-    pub wi: Vec3,
-    pub wj: Vec3,
-    pub ri: f64,
-    pub rj: f64,
-    pub mi: f64,
-    pub mj: f64,
+    pub dv: [Lane; 3],
+    pub wi: [Lane; 3],
+    pub wj: [Lane; 3],
+    pub ri: Lane,
+    pub rj: Lane,
+    /// This batch's pair constants, copied from a [`ConstWindow`] (whole-array copies: cheap, and the
+    /// kernel then reads memory the compiler knows is not aliased by its outputs, so it vectorises).
+    k: LaneConsts,
+    /// Tangential history in, advanced history out.
+    pub h: [Lane; 3],
+    /// Force on i (the force on j is its opposite).
+    pub f: [Lane; 3],
+    /// Torques on i and on j.
+    pub ti: [Lane; 3],
+    pub tj: [Lane; 3],
+    /// Energy terms (filled when requested): normal potential, tangential spring, damping power,
+    /// spring energy released by sliding this step.
+    pub e_normal: Lane,
+    pub e_tangential: Lane,
+    pub damping_power: Lane,
+    pub slid: Lane,
 }
 
-/// Evaluates one pair and advances its history. `TANGENTIAL` compiles the tangential part in or out.
-#[inline(always)]
-pub(crate) fn pair<const TANGENTIAL: bool>(
-    coef: &PairCoefficients,
-    inp: &PairInput,
-    hist: &mut Vec3,
-    dt: f64,
-) -> (PairOut, PairEnergy) {
-    let dist2 = inp.d.norm_squared();
-    let (d_sum, delta_f) = coef.range(inp.ri, inp.rj);
-    let reach = d_sum + delta_f;
-    if dist2 >= reach * reach {
-        *hist = Vec3::zeros();
-        return (PairOut::default(), PairEnergy::default());
-    }
-    let dist = dist2.sqrt();
-    let n = inp.d * (1.0 / dist);
-    let dn = dist - inp.ri - inp.rj;
-    let p = coef.params_in_range(inp.ri, inp.rj, d_sum, delta_f, inp.mi, inp.mj);
-    let ai = inp.ri + 0.5 * dn;
-    let aj = inp.rj + 0.5 * dn;
-    // Velocity of i relative to j at the contact point.
-    let v_rel = inp.dv + (ai * inp.wi + aj * inp.wj).cross(&n);
-    let vn = -v_rel.dot(&n);
-    let fn_ = normal_force(&p, dn);
-    let mut f = (fn_ + p.c_n * vn) * n;
-    let mut en = PairEnergy {
-        normal: normal_energy(&p, dn),
-        damping_power: p.c_n * vn * vn,
-        ..Default::default()
-    };
-    let mut nxf = Vec3::zeros();
-    if TANGENTIAL {
-        let vt = v_rel + vn * n;
-        // Slip increment over the step that just moved the particles by v dt, in the midpoint geometry
-        // (see the module docs): the previous separation is exactly d + dv dt in symplectic Euler.
-        let d_prev = inp.d + inp.dv * dt;
-        let dist_prev = d_prev.norm();
-        let n_prev = d_prev * (1.0 / dist_prev);
-        // The normal turns by a tiny angle theta per step; with e = 1 - cos(theta) ~ theta^2 / 2, the
-        // midpoint normal's 1/|n + n_prev| = (1/2)(1 - e/2)^(-1/2) and 1/(1 + cos) = 1/(2 - e) are taken
-        // as series (remainder O(e^3), below 1e-9 even for a 0.05 rad step): no square root, no division.
-        let e = 1.0 - n.dot(&n_prev);
-        let m = (n + n_prev) * (0.5 * (1.0 + e * (0.25 + 0.09375 * e)));
-        let half_gap_mid = 0.25 * (dist + dist_prev - 2.0 * (inp.ri + inp.rj));
-        let v_rel_mid = inp.dv
-            + ((inp.ri + half_gap_mid) * inp.wi + (inp.rj + half_gap_mid) * inp.wj).cross(&m);
-        let v_mid = v_rel_mid - m * v_rel_mid.dot(&m);
-        let h_old = *hist;
-        let inv_1pc = 0.5 * (1.0 + e * (0.5 + 0.25 * e));
-        let mut h = if h_old == Vec3::zeros() {
-            h_old
-        } else {
-            rotate_between(h_old, &n_prev, &n, inv_1pc)
-        };
-        h += v_mid * dt;
-        h -= h.dot(&n) * n;
-        let cap = tangential_cap(&p, dn);
-        let spring2 = p.k_t * p.k_t * h.norm_squared();
-        if spring2 > cap * cap {
-            let before = 0.5 * p.k_t * h.norm_squared();
-            h *= cap / spring2.sqrt();
-            en.slid = before - 0.5 * p.k_t * h.norm_squared();
+impl Batch {
+    /// Evaluates every lane (constants `c`) and advances its history; lanes out of range get zero
+    /// force and history. `TANGENTIAL` compiles the tangential part in or out, `ENERGY` the energy
+    /// terms. Lanes beyond the last pair hold stale inputs whose outputs the caller ignores.
+    #[inline(always)]
+    pub fn evaluate<const TANGENTIAL: bool, const ENERGY: bool>(
+        &mut self,
+        c: &ConstWindow,
+        dt: f64,
+    ) {
+        self.k = LaneConsts::from(c);
+        for l in 0..LANES {
+            self.lane::<TANGENTIAL, ENERGY>(l, dt);
         }
-        *hist = h;
-        let ft = p.k_t * h + p.c_t * vt;
-        f -= ft;
-        nxf = n.cross(&f);
-        en.tangential = 0.5 * p.k_t * h.norm_squared();
-        en.damping_power += p.c_t * vt.norm_squared();
     }
-    (PairOut { f, nxf, ai, aj }, en)
+
+    #[inline(always)]
+    fn lane<const TANGENTIAL: bool, const ENERGY: bool>(&mut self, l: usize, dt: f64) {
+        let v3 = |a: &[Lane; 3]| Vec3::new(a[0][l], a[1][l], a[2][l]);
+        let (d, dv, wi, wj) = (v3(&self.d), v3(&self.dv), v3(&self.wi), v3(&self.wj));
+        let (ri, rj) = (self.ri[l], self.rj[l]);
+        let (k_n, de, df) = (self.k.k_n[l], self.k.delta_e[l], self.k.delta_f[l]);
+        let (c_n, c_t, k_t) = (self.k.c_n[l], self.k.c_t[l], self.k.k_t[l]);
+        let dist2 = d.norm_squared();
+        let inside = dist2 < self.k.reach2[l];
+        let dist = dist2.sqrt();
+        let n = d * (1.0 / dist);
+        let dn = dist - ri - rj;
+        let ai = ri + 0.5 * dn;
+        let aj = rj + 0.5 * dn;
+        // Velocity of i relative to j at the contact point.
+        let v_rel = dv + (ai * wi + aj * wj).cross(&n);
+        let vn = -v_rel.dot(&n);
+        // Eq (3), every branch evaluated and one selected.
+        let soft = self.k.slope[l] * (df - dn);
+        let fn_ = if dn <= de {
+            k_n * dn
+        } else if dn <= df {
+            soft
+        } else {
+            0.0
+        };
+        let mut f = (fn_ + c_n * vn) * n;
+        let mut damping_power = c_n * vn * vn;
+        let mut h = Vec3::zeros();
+        let (mut e_t, mut slid) = (0.0, 0.0);
+        if TANGENTIAL {
+            let vt = v_rel + vn * n;
+            // Slip increment over the step that just moved the particles by v dt, in the midpoint
+            // geometry (see the module docs): the previous separation is exactly d + dv dt in
+            // symplectic Euler.
+            let d_prev = d + dv * dt;
+            let dist_prev = d_prev.norm();
+            let n_prev = d_prev * (1.0 / dist_prev);
+            // The normal turns by a tiny angle theta per step; with e = 1 - cos(theta) ~ theta^2 / 2,
+            // the midpoint normal's 1/|n + n_prev| = (1/2)(1 - e/2)^(-1/2) and 1/(1 + cos) = 1/(2 - e)
+            // are taken as series (remainder O(e^3), below 1e-9 even for a 0.05 rad step).
+            let cos = n.dot(&n_prev);
+            let e = 1.0 - cos;
+            let m = (n + n_prev) * (0.5 * (1.0 + e * (0.25 + 0.09375 * e)));
+            let half_gap_mid = 0.25 * (dist + dist_prev - 2.0 * (ri + rj));
+            let v_rel_mid = dv + ((ri + half_gap_mid) * wi + (rj + half_gap_mid) * wj).cross(&m);
+            let v_mid = v_rel_mid - m * v_rel_mid.dot(&m);
+            // Rodrigues: the smallest rotation taking n_prev to n turns the spring with the pair and
+            // keeps its length (k = n_prev x n, c = n_prev . n, 1/(1 + c) as a series).
+            let h_old = v3(&self.h);
+            let inv_1pc = 0.5 * (1.0 + e * (0.5 + 0.25 * e));
+            let k = n_prev.cross(&n);
+            h = h_old * cos + k.cross(&h_old) + k * (k.dot(&h_old) * inv_1pc);
+            h += v_mid * dt;
+            h -= h.dot(&n) * n;
+            // Eq (5): the cap shrinks linearly to zero at delta_f; eq (4): slide at the cap.
+            let f_mt = self.k.f_mt[l];
+            let capped = (self.k.fmt_per_df[l] * (df - dn)).max(0.0).min(f_mt);
+            let cap = if dn <= 0.0 { f_mt } else { capped };
+            let h2 = h.norm_squared();
+            let spring2 = k_t * k_t * h2;
+            let sliding = spring2 > cap * cap;
+            let scale = if sliding { cap / spring2.sqrt() } else { 1.0 };
+            h *= scale;
+            let h2_after = h.norm_squared();
+            if ENERGY {
+                e_t = 0.5 * k_t * h2_after;
+                slid = if sliding { 0.5 * k_t * h2 - e_t } else { 0.0 };
+            }
+            let ft = k_t * h + c_t * vt;
+            f -= ft;
+            damping_power += c_t * vt.norm_squared();
+        }
+        if !inside {
+            f = Vec3::zeros();
+            h = Vec3::zeros();
+        }
+        let nxf = n.cross(&f);
+        let (ti, tj) = (ai * nxf, aj * nxf);
+        for a in 0..3 {
+            self.f[a][l] = f[a];
+            self.ti[a][l] = ti[a];
+            self.tj[a][l] = tj[a];
+            self.h[a][l] = h[a];
+        }
+        if ENERGY {
+            let normal = if dn <= de {
+                0.5 * k_n * dn * dn - 0.5 * k_n * de * df
+            } else if dn <= df {
+                // Remaining area under the softening line from delta_N to delta_f, negated.
+                -0.5 * soft * (df - dn)
+            } else {
+                0.0
+            };
+            self.e_normal[l] = if inside { normal } else { 0.0 };
+            self.e_tangential[l] = if inside { e_t } else { 0.0 };
+            self.damping_power[l] = if inside { damping_power } else { 0.0 };
+            self.slid[l] = if inside { slid } else { 0.0 };
+        }
+    }
 }
 
 #[cfg(test)]
 mod tests {
+    use super::super::pair_consts::{PairConst, PairConstArrays};
     use super::*;
-    use crate::material::{Material, PairModel};
+    use crate::material::{Material, PairCoefficients, PairModel};
 
     fn params() -> PairParams {
         PairModel::cohesive(Material::table4(0.15)).params(45.0, 45.0, 1.0, 1.0)
+    }
+
+    /// A batch of head-on pairs at rest (radii 45) with normal gaps `gaps`, and their constants.
+    fn head_on(gaps: &[f64]) -> (Batch, PairConstArrays) {
+        let coef = PairCoefficients::new(&PairModel::cohesive(Material::table4(0.15)));
+        let mut consts = PairConstArrays::default();
+        consts.fill(gaps.len(), |_| PairConst::new(&coef, 45.0, 45.0, 1.0, 1.0));
+        let mut b = Batch::default();
+        for (l, g) in gaps.iter().enumerate() {
+            b.d[0][l] = 90.0 + g;
+            b.ri[l] = 45.0;
+            b.rj[l] = 45.0;
+        }
+        (b, consts)
+    }
+
+    #[test]
+    fn lanes_reproduce_eq3_and_its_energy_in_every_branch() {
+        let p = params();
+        let gaps = [
+            -2.0,
+            0.0,
+            0.5 * p.delta_e,
+            p.delta_e,
+            0.5 * (p.delta_e + p.delta_f),
+            0.999 * p.delta_f,
+            1.5 * p.delta_f,
+        ];
+        let (mut b, consts) = head_on(&gaps);
+        b.evaluate::<true, true>(&consts.window(0), 1e-3);
+        for (l, &g) in gaps.iter().enumerate() {
+            // Force on i along +x is cohesive (towards j).
+            let f = b.f[0][l];
+            let want = normal_force(&p, g);
+            assert!(
+                (f - want).abs() <= 1e-12 * p.k_n * p.delta_e,
+                "gap {g}: {f} vs {want}"
+            );
+            let e = b.e_normal[l];
+            let want = normal_energy(&p, g);
+            assert!(
+                (e - want).abs() <= 1e-12 * p.bond_energy(),
+                "gap {g}: {e} vs {want}"
+            );
+            assert_eq!((b.f[1][l], b.f[2][l]), (0.0, 0.0));
+        }
+    }
+
+    #[test]
+    fn lanes_out_of_range_drop_force_and_history() {
+        let p = params();
+        let (mut b, consts) = head_on(&[0.0, 1.01 * p.delta_f]);
+        b.h[1] = [1e-3; LANES];
+        b.evaluate::<true, false>(&consts.window(0), 1e-3);
+        assert_eq!(b.h[1][1], 0.0);
+        assert_eq!(b.f[0][1], 0.0);
+        assert!(b.h[1][0] != 0.0, "the pair in range keeps its spring");
+    }
+
+    #[test]
+    fn lanes_saturate_the_tangential_spring_at_the_cap() {
+        let p = params();
+        let dn = 0.3 * p.delta_f;
+        let (mut b, consts) = head_on(&[dn]);
+        // A slip far beyond the cap: the history is rescaled so that k_T |delta_T| = F'_mT.
+        b.h[1][0] = 10.0 * p.f_mt / p.k_t;
+        b.evaluate::<true, true>(&consts.window(0), 1e-6);
+        let cap = tangential_cap(&p, dn);
+        assert!((p.k_t * b.h[1][0] - cap).abs() < 1e-12 * cap);
+        assert!(
+            (b.f[1][0] + cap).abs() < 1e-9 * cap,
+            "spring force opposes the slip"
+        );
+        let released = 0.5 / p.k_t * (100.0 * p.f_mt * p.f_mt - cap * cap);
+        assert!(b.slid[0] > 0.0 && (b.slid[0] - released).abs() < 1e-9 * released);
     }
 
     #[test]

@@ -1,6 +1,7 @@
-//! The force phase. Particles are cut into fixed blocks; each block walks its rows and adds every pair
-//! that stays inside the block straight into both particles' sums, parking only the pairs that reach
-//! into a later block, which are added afterwards per particle in pair order. Blocks are the same for
+//! The force phase. Particles are cut into fixed blocks; each block walks its pairs in order, evaluates
+//! them in batches of `LANES` (see [`super::cohesive::Batch`]), and adds every pair that stays inside
+//! the block straight into both particles' sums, parking only the pairs that reach into a later block,
+//! which are added afterwards per particle in pair order. Blocks are the same for
 //! any thread count and every sum happens in the same order, so one thread and many give bit-identical
 //! results, while almost all pairs avoid the per-pair buffer. Energies are summed block by block in
 //! block order.
@@ -8,7 +9,8 @@
 use nalgebra::Matrix3;
 use rayon::prelude::*;
 
-use super::cohesive::{pair, PairEnergy, PairInput, PairOut};
+use super::cohesive::Batch;
+use super::pair_consts::{PairConst, PairConstArrays, LANES};
 use crate::domain::SimBox;
 use crate::material::PairCoefficients;
 use crate::neighbor::NeighborList;
@@ -23,12 +25,30 @@ const BLOCK: usize = 2048;
 /// Scratch reused from step to step (resized only when the neighbour list changes size).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct ForceBuffers {
-    pub out: Vec<PairOut>,
+    /// Outputs of the pairs that reach into a later block, indexed by pair.
+    out: Vec<Parked>,
     pub force: Vec<Vec3>,
     pub torque: Vec<Vec3>,
     /// Per-particle virial sum_j 1/2 (x_i - x_j) (x) F_ij (filled when requested).
     pub virial: Vec<Matrix3<f64>>,
     kin: Vec<Kin>,
+    /// Per-pair constants, parallel to the neighbour list.
+    consts: PairConstArrays,
+    /// `parked_pair[parked_start[k]..parked_start[k + 1]]`: the pairs (j = k) whose first particle lies
+    /// in an earlier block, in pair order.
+    parked_start: Vec<u32>,
+    parked_pair: Vec<u32>,
+    /// The neighbour-list build the constants and parked lists belong to (None: stale).
+    built_for: Option<u64>,
+}
+
+/// What a pair reaching into a later block leaves for its second particle.
+#[derive(Debug, Clone, Copy, Default)]
+struct Parked {
+    /// Force on i (j receives its opposite).
+    f: Vec3,
+    /// Torque on j.
+    tj: Vec3,
 }
 
 /// Sums of the per-pair energy terms of one evaluation.
@@ -38,15 +58,6 @@ pub(crate) struct PairEnergyTotals {
     pub tangential: f64,
     pub damping_power: f64,
     pub slid: f64,
-}
-
-impl PairEnergyTotals {
-    fn add(&mut self, e: &PairEnergy) {
-        self.normal += e.normal;
-        self.tangential += e.tangential;
-        self.damping_power += e.damping_power;
-        self.slid += e.slid;
-    }
 }
 
 /// What to compute besides forces and torques.
@@ -64,14 +75,13 @@ pub(crate) struct Kin {
     v: Vec3,
     w: Vec3,
     r: f64,
-    m: f64,
 }
 
 /// One block's share of the mutable arrays: its pairs' history and parked outputs, its particles' sums.
 struct BlockTask<'a> {
     b: usize,
     hist: &'a mut [Vec3],
-    out: &'a mut [PairOut],
+    out: &'a mut [Parked],
     f: &'a mut [Vec3],
     t: &'a mut [Vec3],
     w: Option<&'a mut [Matrix3<f64>]>,
@@ -79,8 +89,8 @@ struct BlockTask<'a> {
 
 /// Read-only inputs of the pair loop.
 struct Ctx<'a> {
-    coef: &'a PairCoefficients,
     kin: &'a [Kin],
+    consts: &'a PairConstArrays,
     lengths: Vec3,
     dt: f64,
 }
@@ -92,30 +102,40 @@ impl Ctx<'_> {
             .component_mul(&self.lengths);
         self.kin[j].x + s - self.kin[i].x
     }
-
-    #[inline(always)]
-    fn eval<const T: bool>(
-        &self,
-        ki: &Kin,
-        kj: &Kin,
-        d: Vec3,
-        hist: &mut Vec3,
-    ) -> (PairOut, PairEnergy) {
-        let inp = PairInput {
-            d,
-            dv: ki.v - kj.v,
-            wi: ki.w,
-            wj: kj.w,
-            ri: ki.r,
-            rj: kj.r,
-            mi: ki.m,
-            mj: kj.m,
-        };
-        pair::<T>(self.coef, &inp, hist, self.dt)
-    }
 }
 
 impl ForceBuffers {
+    /// Marks the per-pair constants stale (after a change of particles, model or groups).
+    pub fn invalidate(&mut self) {
+        self.built_for = None;
+    }
+
+    /// Recomputes the per-pair constants and the parked lists when the neighbour list was rebuilt or
+    /// they were invalidated. Element-wise and in pair order: deterministic for any thread count.
+    fn refresh(&mut self, coef: &PairCoefficients, parts: &Particles, list: &NeighborList) {
+        if self.built_for == Some(list.builds) && self.consts.len() == list.len() {
+            return;
+        }
+        let _s = tracing::trace_span!("pair_constants").entered();
+        let (radius, mass) = (&parts.radius, &parts.mass);
+        self.consts.fill(list.len(), |k| {
+            let (i, j) = (list.i[k] as usize, list.j[k] as usize);
+            PairConst::new(coef, radius[i], radius[j], mass[i], mass[j])
+        });
+        let n = parts.len();
+        self.parked_start.clear();
+        self.parked_pair.clear();
+        self.parked_start.push(0);
+        for k in 0..n {
+            let k0 = (k / BLOCK) * BLOCK;
+            let rev = &list.rev_pair[list.rev_start[k] as usize..list.rev_start[k + 1] as usize];
+            self.parked_pair
+                .extend(rev.iter().filter(|&&p| (list.i[p as usize] as usize) < k0));
+            self.parked_start.push(self.parked_pair.len() as u32);
+        }
+        self.built_for = Some(list.builds);
+    }
+
     /// Evaluates all pairs and sums forces, torques (and optionally energies and virials).
     pub fn compute(
         &mut self,
@@ -132,20 +152,29 @@ impl ForceBuffers {
         if phase.virial {
             self.virial.resize(n, Matrix3::zeros());
         }
+        self.refresh(coef, parts, list);
         let mut kin = std::mem::take(&mut self.kin);
         kin.resize(n, Kin::default());
-        for (i, k) in kin.iter_mut().enumerate() {
-            *k = Kin {
-                x: parts.pos[i],
-                v: parts.vel[i],
-                w: parts.omega[i],
-                r: parts.radius[i],
-                m: parts.mass[i],
-            };
+        let fill = |(c, ks): (usize, &mut [Kin])| {
+            for (k, slot) in ks.iter_mut().enumerate() {
+                let i = c * BLOCK + k;
+                *slot = Kin {
+                    x: parts.pos[i],
+                    v: parts.vel[i],
+                    w: parts.omega[i],
+                    r: parts.radius[i],
+                };
+            }
+        };
+        if phase.parallel {
+            kin.par_chunks_mut(BLOCK).enumerate().for_each(fill);
+        } else {
+            kin.chunks_mut(BLOCK).enumerate().for_each(fill);
         }
+        let consts = std::mem::take(&mut self.consts);
         let ctx = Ctx {
-            coef,
             kin: &kin,
+            consts: &consts,
             lengths: bx.lengths(),
             dt,
         };
@@ -159,6 +188,7 @@ impl ForceBuffers {
             }
         };
         self.kin = kin;
+        self.consts = consts;
         totals
     }
 
@@ -175,7 +205,7 @@ impl ForceBuffers {
         phase: ForcePhase,
     ) -> PairEnergyTotals {
         let n = ctx.kin.len();
-        self.out.resize(list.len(), PairOut::default());
+        self.out.resize(list.len(), Parked::default());
         self.force.iter_mut().for_each(|f| *f = Vec3::zeros());
         self.torque.iter_mut().for_each(|t| *t = Vec3::zeros());
         if phase.virial {
@@ -208,7 +238,7 @@ impl ForceBuffers {
                 });
             }
         }
-        let (lj, limg, rows) = (&list.j, &list.image, &list.row_start);
+        let (li, lj, limg, rows) = (&list.i, &list.j, &list.image, &list.row_start);
         let run = |BlockTask {
                        b,
                        hist,
@@ -218,39 +248,63 @@ impl ForceBuffers {
                        mut w,
                    }: BlockTask<'_>| {
             let (k0, k1) = (b * BLOCK, ((b + 1) * BLOCK).min(n));
-            let p0 = rows[k0] as usize;
+            let (p0, p1) = (rows[k0] as usize, rows[k1] as usize);
             let mut totals = PairEnergyTotals::default();
-            for i in k0..k1 {
-                let ki = ctx.kin[i];
-                let (mut fi, mut ti) = (f[i - k0], t[i - k0]);
-                for p in rows[i] as usize..rows[i + 1] as usize {
-                    let j = lj[p] as usize;
-                    let d = ctx.separation(i, j, limg[p]);
-                    let (o, e) = ctx.eval::<T>(&ki, &ctx.kin[j], d, &mut hist[p - p0]);
-                    fi += o.f;
-                    ti += o.ai * o.nxf;
+            let mut lanes = Batch::default();
+            let mut p = p0;
+            // Batches run across rows; the sums below still happen in pair order.
+            while p < p1 {
+                let len = (p1 - p).min(LANES);
+                for l in 0..len {
+                    let q = p + l;
+                    let (i, j) = (li[q] as usize, lj[q] as usize);
+                    let (ki, kj) = (&ctx.kin[i], &ctx.kin[j]);
+                    let d = ctx.separation(i, j, limg[q]);
+                    let dv = ki.v - kj.v;
+                    let h = hist[q - p0];
+                    for a in 0..3 {
+                        lanes.d[a][l] = d[a];
+                        lanes.dv[a][l] = dv[a];
+                        lanes.wi[a][l] = ki.w[a];
+                        lanes.wj[a][l] = kj.w[a];
+                        lanes.h[a][l] = h[a];
+                    }
+                    lanes.ri[l] = ki.r;
+                    lanes.rj[l] = kj.r;
+                }
+                lanes.evaluate::<T, E>(&ctx.consts.window(p), ctx.dt);
+                for l in 0..len {
+                    let q = p + l;
+                    let (i, j) = (li[q] as usize, lj[q] as usize);
+                    let v3 = |a: &[[f64; LANES]; 3]| Vec3::new(a[0][l], a[1][l], a[2][l]);
+                    let (fp, tip, tjp) = (v3(&lanes.f), v3(&lanes.ti), v3(&lanes.tj));
+                    hist[q - p0] = v3(&lanes.h);
+                    f[i - k0] += fp;
+                    t[i - k0] += tip;
                     if j == i {
-                        fi -= o.f;
-                        ti += o.aj * o.nxf;
+                        f[i - k0] -= fp;
+                        t[i - k0] += tjp;
                     } else if j < k1 {
-                        f[j - k0] -= o.f;
-                        t[j - k0] += o.aj * o.nxf;
+                        f[j - k0] -= fp;
+                        t[j - k0] += tjp;
                     } else {
-                        out[p - p0] = o;
+                        out[q - p0] = Parked { f: fp, tj: tjp };
                     }
                     if let Some(w) = w.as_deref_mut() {
-                        let wp = -0.5 * d * o.f.transpose();
+                        let wp = -0.5 * v3(&lanes.d) * fp.transpose();
                         w[i - k0] += wp;
                         if j < k1 {
                             w[j - k0] += wp;
                         }
                     }
                     if E {
-                        totals.add(&e);
+                        totals.normal += lanes.e_normal[l];
+                        totals.tangential += lanes.e_tangential[l];
+                        totals.damping_power += lanes.damping_power[l];
+                        totals.slid += lanes.slid[l];
                     }
                 }
-                f[i - k0] = fi;
-                t[i - k0] = ti;
+                p += len;
             }
             totals
         };
@@ -273,22 +327,16 @@ impl ForceBuffers {
 
     /// Phase 2: each particle adds the outputs parked by pairs of earlier blocks, in pair order.
     fn gather_parked(&mut self, ctx: &Ctx, list: &NeighborList, phase: ForcePhase) {
-        let out = &self.out;
-        let parked = |k: usize| {
-            let k0 = (k / BLOCK) * BLOCK;
-            list.rev_pair[list.rev_start[k] as usize..list.rev_start[k + 1] as usize]
-                .iter()
-                .map(|&p| p as usize)
-                .filter(move |&p| (list.i[p] as usize) < k0)
-        };
+        let (out, start, parked) = (&self.out, &self.parked_start, &self.parked_pair);
         let run = |c: usize, f: &mut [Vec3], t: &mut [Vec3], w: Option<&mut [Matrix3<f64>]>| {
             let mut w = w;
             for k in 0..f.len() {
                 let kk = c * BLOCK + k;
-                for p in parked(kk) {
+                for &p in &parked[start[kk] as usize..start[kk + 1] as usize] {
+                    let p = p as usize;
                     let o = &out[p];
                     f[k] -= o.f;
-                    t[k] += o.aj * o.nxf;
+                    t[k] += o.tj;
                     if let Some(w) = w.as_deref_mut() {
                         let d = ctx.separation(list.i[p] as usize, kk, list.image[p]);
                         w[k] += -0.5 * d * o.f.transpose();

@@ -3,11 +3,15 @@
 //! - the normal-only law of paper 004 is the same kernel with the tangential part compiled out
 //!   (its parameters differ only through A_eff, see [`crate::material`]).
 //!
-//! The phase driver ([`compute`]) evaluates every pair in parallel into a per-pair buffer, then gathers
-//! forces per particle in a fixed order: results are bit-identical for any number of threads.
+//! The phase driver ([`compute`]) walks fixed particle blocks in parallel. Inside a block, consecutive
+//! pairs are loaded into batches of [`cohesive::LANES`] (structure of arrays) that the kernel evaluates
+//! lane-wise, which the compiler turns into vector instructions; the per-pair constants of eqs (7)-(13)
+//! are computed once per neighbour-list build. Forces are then summed per particle in pair order, so
+//! results are bit-identical for any number of threads.
 
 pub mod cohesive;
 mod compute;
+mod pair_consts;
 
 pub use cohesive::{normal_energy, normal_force, tangential_cap};
 pub(crate) use compute::{ForceBuffers, ForcePhase};
