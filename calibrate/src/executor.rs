@@ -48,6 +48,22 @@ pub struct Settings {
     pub max_step: f64,
     /// Stop when the step is shorter than this (infinity norm); default 1e-5.
     pub min_step: f64,
+    /// Central differences (2n evaluations per Jacobian instead of n); default false. They remove the
+    /// truncation error of forward differences, not the noise: worth it only when the step has to be
+    /// large (noisy responses) and the response is curved over it.
+    pub central: bool,
+    /// Broyden (secant) updates: after every trial step, accepted or rejected, the Jacobian takes the
+    /// rank-1 correction J += (dr - J h) h^T / |h|^2 that makes it reproduce the measured change (only
+    /// for steps of at least fd_step / 2: shorter ones are inside the noise scale), and
+    /// is recomputed by finite differences only after `refresh_after` rejections in a row (Madsen,
+    /// Nielsen & Tingleff 2004, section 3.4); default false (fresh finite differences after every
+    /// accepted step). One evaluation per iteration instead of n + 1, and every trial, even a rejected
+    /// one, teaches the model something: on noisy responses the secant over a real step is a better
+    /// slope than a finite difference over a small one.
+    pub broyden: bool,
+    /// Rejections in a row that trigger a finite-difference refresh of a Broyden Jacobian (the damping
+    /// restarts from tau); default 2.
+    pub refresh_after: usize,
 }
 
 impl Default for Settings {
@@ -59,6 +75,9 @@ impl Default for Settings {
             tau: 1e-2,
             max_step: 0.4,
             min_step: 1e-5,
+            central: false,
+            broyden: false,
+            refresh_after: 2,
         }
     }
 }
@@ -78,6 +97,11 @@ impl Settings {
                     "solver {n} = {v} must be positive"
                 )));
             }
+        }
+        if self.refresh_after == 0 {
+            return Err(CalibrateError::InvalidConfig(
+                "solver refresh_after must be at least 1".into(),
+            ));
         }
         Ok(())
     }
@@ -107,6 +131,9 @@ pub struct State {
     pub lambda: Option<f64>,
     pub nu: f64,
     pub iteration: usize,
+    /// Trial steps rejected since the last accepted one (Broyden refresh rule).
+    #[serde(default)]
+    pub rejections: usize,
     /// Evaluations requested (cache hits included, so the count is the same after a resume).
     pub evaluations: usize,
     pub status: Status,
@@ -277,37 +304,62 @@ impl<P: Problem> Evaluator<'_, P> {
         outcome
     }
 
-    /// Jacobian at (x, r): analytic when the problem has one, else parallel forward differences.
-    fn jacobian(&self, x: &[f64], r: &[f64], h: f64) -> Vec<Vec<f64>> {
+    /// Jacobian at (x, r): analytic when the problem has one, else parallel finite differences
+    /// (forward, or central when `central`); returns it with the number of evaluations requested.
+    fn jacobian(&self, x: &[f64], r: &[f64], h: f64, central: bool) -> (Vec<Vec<f64>>, usize) {
         if let Some(j) = self.problem.jacobian(x) {
-            return j;
+            return (j, 0);
         }
         let n = x.len();
-        let cols: Vec<Vec<f64>> = (0..n)
-            .into_par_iter()
-            .map(|k| {
-                for sign in [1.0, -1.0] {
-                    let mut xp = x.to_vec();
-                    xp[k] += sign * h;
-                    match self.eval(&xp) {
-                        Ok(rp) => {
-                            return rp
-                                .iter()
-                                .zip(r)
-                                .map(|(a, b)| (a - b) / (sign * h))
-                                .collect()
-                        }
-                        Err(e) => {
-                            tracing::warn!(unknown = k, sign, %e, "finite-difference point failed")
-                        }
-                    }
+        let shifted = |k: usize, sign: f64| {
+            let mut xp = x.to_vec();
+            xp[k] += sign * h;
+            let e = self.eval(&xp);
+            if let Err(e) = &e {
+                tracing::warn!(unknown = k, sign, %e, "finite-difference point failed");
+            }
+            e.ok()
+        };
+        let slope = |a: &[f64], b: &[f64], d: f64| -> Vec<f64> {
+            a.iter().zip(b).map(|(p, q)| (p - q) / d).collect()
+        };
+        // All points of all columns in one parallel batch (collected in order).
+        let points: Vec<(usize, f64)> = (0..n)
+            .flat_map(|k| {
+                if central {
+                    vec![(k, 1.0), (k, -1.0)]
+                } else {
+                    vec![(k, 1.0)]
                 }
-                vec![0.0; r.len()]
             })
             .collect();
-        (0..r.len())
+        let mut got: Vec<Option<Vec<f64>>> = points
+            .par_iter()
+            .map(|&(k, sign)| shifted(k, sign))
+            .collect();
+        let mut evaluations = points.len();
+        let cols: Vec<Vec<f64>> = (0..n)
+            .map(|k| {
+                if central {
+                    match (got[2 * k].take(), got[2 * k + 1].take()) {
+                        (Some(p), Some(m)) => slope(&p, &m, 2.0 * h),
+                        (Some(p), None) => slope(&p, r, h),
+                        (None, Some(m)) => slope(r, &m, h),
+                        (None, None) => vec![0.0; r.len()],
+                    }
+                } else if let Some(p) = got[k].take() {
+                    slope(&p, r, h)
+                } else {
+                    // A failed forward point is retried backwards.
+                    evaluations += 1;
+                    shifted(k, -1.0).map_or(vec![0.0; r.len()], |m| slope(r, &m, h))
+                }
+            })
+            .collect();
+        let j = (0..r.len())
             .map(|i| (0..n).map(|k| cols[k][i]).collect())
-            .collect()
+            .collect();
+        (j, evaluations)
     }
 }
 
@@ -360,6 +412,7 @@ impl<'a, P: Problem> Executor<'a, P> {
                 lambda: None,
                 nu: 2.0,
                 iteration: 0,
+                rejections: 0,
                 evaluations: 1,
                 status: Status::Running,
             },
@@ -395,8 +448,8 @@ impl<'a, P: Problem> Executor<'a, P> {
                 break;
             }
             if st.jacobian.is_none() {
-                let j = self.ev.jacobian(&st.x, &st.r, s.fd_step);
-                st.evaluations += st.x.len();
+                let (j, evaluations) = self.ev.jacobian(&st.x, &st.r, s.fd_step, s.central);
+                st.evaluations += evaluations;
                 st.lambda
                     .get_or_insert_with(|| lm::initial_lambda(&j, s.tau));
                 st.jacobian = Some(j);
@@ -445,10 +498,31 @@ impl<'a, P: Problem> Executor<'a, P> {
         let (lambda, nu) = lm::update_damping(lambda, st.nu, rho.filter(|_| accepted));
         st.lambda = Some(lambda);
         st.nu = nu;
+        if s.broyden {
+            // A step shorter than half the finite-difference step is inside the noise scale the
+            // user declared with `fd_step`: its secant would be noise over a small denominator.
+            let hmax = h.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            if let (Some(rt), Some(j)) = (&rt, st.jacobian.as_mut()) {
+                if hmax >= 0.5 * s.fd_step {
+                    lm::broyden_update(j, &h, &st.r, rt);
+                }
+            }
+            st.rejections = if accepted { 0 } else { st.rejections + 1 };
+            if st.rejections >= s.refresh_after {
+                // The secant model has misled twice in a row: fresh finite differences here, and
+                // the damping restarts from them.
+                st.jacobian = None;
+                st.lambda = None;
+                st.nu = 2.0;
+                st.rejections = 0;
+            }
+        }
         if accepted {
             st.x = xt.clone();
             st.r = rt.clone().unwrap_or_default();
-            st.jacobian = None;
+            if !s.broyden {
+                st.jacobian = None;
+            }
         }
         st.iteration += 1;
         if lambda > 1e12 {

@@ -66,6 +66,21 @@ pub fn update_damping(lambda: f64, nu: f64, rho: Option<f64>) -> (f64, f64) {
     }
 }
 
+/// Broyden's rank-1 update of `j` (rows = residuals) after the step `h` from residuals `r` to `rt`:
+/// J += (rt - r - J h) h^T / |h|^2, the smallest change (Frobenius norm) that makes J h reproduce
+/// the measured change (Madsen, Nielsen & Tingleff 2004, eq 3.19). A zero step leaves J as it is.
+pub fn broyden_update(j: &mut [Vec<f64>], h: &[f64], r: &[f64], rt: &[f64]) {
+    let hh = norm2(h);
+    if hh == 0.0 || !hh.is_finite() {
+        return;
+    }
+    for ((row, ri), ti) in j.iter_mut().zip(r).zip(rt) {
+        let jh: f64 = row.iter().zip(h).map(|(a, b)| a * b).sum();
+        let c = (ti - ri - jh) / hh;
+        row.iter_mut().zip(h).for_each(|(a, b)| *a += c * b);
+    }
+}
+
 /// The starting damping: tau times the largest diagonal entry of J^T J (Madsen et al. eq 3.14), with
 /// a floor so that a zero Jacobian still gives a finite, positive lambda.
 pub fn initial_lambda(j: &[Vec<f64>], tau: f64) -> f64 {
@@ -104,6 +119,20 @@ mod tests {
             let want = 2.0 / (2.0 + lambda);
             assert!((h[0] - want).abs() < 1e-10 && (h[1] - want).abs() < 1e-10);
         }
+    }
+
+    #[test]
+    fn broyden_update_satisfies_the_secant_equation_and_leaves_the_orthogonal_part() {
+        let mut j = vec![vec![1.0, 2.0], vec![0.0, -1.0]];
+        let (h, r, rt) = ([0.5, 0.0], [1.0, 1.0], [2.0, 0.0]);
+        broyden_update(&mut j, &h, &r, &rt);
+        // J h = rt - r now; the column along the unstepped unknown is unchanged.
+        assert!((j[0][0] * 0.5 - 1.0).abs() < 1e-15 && (j[1][0] * 0.5 + 1.0).abs() < 1e-15);
+        assert_eq!((j[0][1], j[1][1]), (2.0, -1.0));
+        // A linear map is learnt exactly along the step.
+        let before = j.clone();
+        broyden_update(&mut j, &[0.0, 0.0], &r, &rt);
+        assert_eq!(j, before);
     }
 
     #[test]

@@ -14,8 +14,10 @@
 //! runs sequentially inside (the tests of one evaluation run side by side with rayon): the residuals
 //! are a deterministic, piecewise-smooth function of x.
 
+use std::borrow::Cow;
+
 use dem::material::{Material, PairModel, ParamScale};
-use dem::sample::Sample;
+use dem::sample::{relax, RelaxConfig, Sample};
 use dem::scenario::patch::{
     elastic, strength, target_strength, ElasticConfig, StrengthConfig, StrengthMode,
 };
@@ -134,6 +136,13 @@ pub struct TestSettings {
     pub tensile: StrengthConfig,
     /// Default: the paper's shear test, recorded every 20 steps, stopped 0.05 past the peak.
     pub shear: StrengthConfig,
+    /// Re-equilibrate the fixed sample with each evaluation's model before the tests (phase 2 of
+    /// the relaxation only: cohesive normal forces, box relaxed to zero stress, from the saved
+    /// positions); default none (the tests start from the saved sample as it is). An amorphous sample
+    /// relaxed with the first guess is not at rest under other delta_e, delta_f: its pre-stretched
+    /// pairs carry other forces, the tests start with a relaxation under load, and the measured
+    /// properties jump with the parameters. See docs/calibration.md.
+    pub reequilibrate: Option<RelaxConfig>,
 }
 
 impl Default for TestSettings {
@@ -147,6 +156,7 @@ impl Default for TestSettings {
             elastic: ElasticConfig::default(),
             tensile: short(StrengthMode::Tensile),
             shear: short(StrengthMode::Shear),
+            reequilibrate: None,
         }
     }
 }
@@ -219,26 +229,56 @@ impl PatchProblem {
         p
     }
 
-    /// Runs the patch tests the targets need with `model` (each test sequential, the tests side by side).
+    /// The sample the tests of `model` run on: the fixed sample, re-equilibrated with `model` when
+    /// the settings ask for it (deterministic: same model, same bits).
+    pub fn sample_for(&self, model: &PairModel) -> Result<Cow<'_, Sample>, EvalFailure> {
+        match &self.tests.reequilibrate {
+            None => Ok(Cow::Borrowed(&self.sample)),
+            Some(rc) => {
+                let s = relax(&self.sample, model, rc, Parallelism::Sequential)
+                    .map_err(|e| EvalFailure(format!("re-equilibration: {e}")))?;
+                match &s.relaxation {
+                    Some(r) if !r.converged => Err(EvalFailure(format!(
+                        "re-equilibration did not reach {:.0e} E in {} steps",
+                        rc.stress_tolerance, r.phase2_steps
+                    ))),
+                    _ => Ok(Cow::Owned(s)),
+                }
+            }
+        }
+    }
+
+    /// Runs the patch tests the targets need with `model` (each test sequential, the tests side by
+    /// side), on [`Self::sample_for`] `model`.
     pub fn measure(&self, model: &PairModel) -> Result<Properties, EvalFailure> {
+        let sample = self.sample_for(model)?;
+        self.measure_on(&sample, model)
+    }
+
+    /// [`Self::measure`] on a given sample.
+    pub fn measure_on(
+        &self,
+        sample: &Sample,
+        model: &PairModel,
+    ) -> Result<Properties, EvalFailure> {
         let wants = |ts: &[Target]| self.targets.iter().any(|t| ts.contains(t));
         let seq = Parallelism::Sequential;
         let fail = |what: &str, e: dem::DemError| EvalFailure(format!("{what} test: {e}"));
         let el = || {
             wants(&[Target::YoungModulus, Target::PoissonRatio])
-                .then(|| elastic(&self.sample, model, &self.tests.elastic, seq))
+                .then(|| elastic(sample, model, &self.tests.elastic, seq))
                 .transpose()
                 .map_err(|e| fail("elastic", e))
         };
         let te = || {
             wants(&[Target::TensileStrength, Target::SurfaceEnergy])
-                .then(|| strength(&self.sample, model, &self.tests.tensile, seq))
+                .then(|| strength(sample, model, &self.tests.tensile, seq))
                 .transpose()
                 .map_err(|e| fail("tensile", e))
         };
         let sh = || {
             wants(&[Target::ShearStrength])
-                .then(|| strength(&self.sample, model, &self.tests.shear, seq))
+                .then(|| strength(sample, model, &self.tests.shear, seq))
                 .transpose()
                 .map_err(|e| fail("shear", e))
         };

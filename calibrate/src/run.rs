@@ -73,6 +73,18 @@ pub fn calibrate(
     let fp = ex.fingerprint().to_string();
     let cp = ex.run()?;
     let r0 = &cp.r0;
+    let model = prob.model_at(&cp.state.x);
+    // With re-equilibration the tests ran on the sample relaxed with the calibrated model: save it,
+    // so that the card and `patch.toml` reproduce the calibrated properties.
+    let sample_file = if prob.tests.reequilibrate.is_some() {
+        let s = prob
+            .sample_for(&model)
+            .map_err(|e| CalibrateError::StartFailed(format!("calibrated sample: {e}")))?;
+        s.save(&out.join("sample-calibrated.json"))?;
+        "sample-calibrated.json"
+    } else {
+        "sample.json"
+    };
     let card = CalibratedCard {
         units: if cfg.material_si.is_some() {
             "nano"
@@ -80,10 +92,10 @@ pub fn calibrate(
             "reduced"
         }
         .into(),
-        model: prob.model_at(&cp.state.x),
+        model,
         material_si: cfg.material_si.clone(),
         sample: p.sample,
-        sample_file: "sample.json".into(),
+        sample_file: sample_file.into(),
         relax: cfg.relax,
         tests: p.tests,
         targets: targets(&prob),

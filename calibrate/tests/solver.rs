@@ -251,3 +251,91 @@ fn underdetermined_problems_take_minimum_norm_like_steps() {
     assert_eq!(cp.state.status, Status::Converged);
     assert!((cp.state.x[0] - 1.0).abs() < 1e-9 && (cp.state.x[1] - 1.0).abs() < 1e-9);
 }
+
+/// Noisy responses (issue 5, amorphous samples): a rough problem where a small forward difference
+/// is dominated by the noise. Broyden updates and central differences reach the minimum, and a
+/// Broyden run killed midway resumes to the same bits.
+struct Rough {
+    calls: AtomicUsize,
+}
+
+impl Problem for Rough {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn residual_names(&self) -> Vec<String> {
+        vec!["a".into(), "b".into(), "c".into()]
+    }
+    fn residuals(&self, x: &[f64]) -> Evaluation {
+        self.calls.fetch_add(1, Ordering::SeqCst);
+        // Deterministic "noise" of amplitude 1e-3 that changes on a scale of 1e-3 in x.
+        let n = |v: f64| 1e-3 * (v * 7.0e3).sin();
+        Ok(vec![
+            x[0].exp() - 1.2 + n(x[0] + x[1]),
+            (x[0] + x[1]).exp() - 0.9 + n(x[1]),
+            0.3 * (x[1] - x[0]) - 0.3 * (0.9f64.ln() - 2.0 * 1.2f64.ln()) + n(x[0] - x[1]),
+        ])
+    }
+}
+
+#[test]
+fn broyden_and_central_differences_reach_the_noise_floor_with_fewer_evaluations() {
+    let noisy = Settings {
+        tolerance: 5e-3,
+        max_iterations: 40,
+        fd_step: 0.1,
+        ..Settings::default()
+    };
+    let run = |s: Settings| {
+        let p = Rough {
+            calls: AtomicUsize::new(0),
+        };
+        let cp = Executor::new(&p, vec![0.0, 0.0], s, "rough").run().unwrap();
+        (cp, p.calls.load(Ordering::SeqCst))
+    };
+    let (fd, n_fd) = run(noisy);
+    let (br, n_br) = run(Settings {
+        broyden: true,
+        ..noisy
+    });
+    let (ce, _) = run(Settings {
+        central: true,
+        ..noisy
+    });
+    for cp in [&fd, &br, &ce] {
+        assert_eq!(
+            cp.state.status,
+            Status::Converged,
+            "{:?}",
+            cp.history.last()
+        );
+    }
+    assert!(
+        n_br <= n_fd,
+        "Broyden {n_br} evaluations vs forward differences {n_fd}"
+    );
+    assert_eq!(br.state.evaluations, n_br);
+
+    // Killed after one iteration and resumed: the same bits as the uninterrupted Broyden run.
+    let tmp = std::env::temp_dir().join(format!("calibrate-broyden-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&tmp);
+    let s = Settings {
+        broyden: true,
+        ..noisy
+    };
+    let p = Rough {
+        calls: AtomicUsize::new(0),
+    };
+    let part = Executor::new(&p, vec![0.0, 0.0], s, "rough")
+        .checkpoint_dir(&tmp)
+        .stop_after(1)
+        .run()
+        .unwrap();
+    assert_eq!(part.state.status, Status::Running);
+    let resumed = Executor::new(&p, vec![0.0, 0.0], s, "rough")
+        .checkpoint_dir(&tmp)
+        .run()
+        .unwrap();
+    assert_eq!(strip_times(resumed), strip_times(br));
+    let _ = std::fs::remove_dir_all(&tmp);
+}
