@@ -16,7 +16,37 @@ use crate::Vec3;
 
 const CHUNK: usize = 1024;
 
-/// Advances free particles one step; returns (kinetic energy at v_n, power dissipated by global damping).
+/// What one integration step reports.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct StepSums {
+    /// Kinetic energy at v_n.
+    pub kinetic: f64,
+    /// Power dissipated by global damping.
+    pub damping_power: f64,
+    /// Every position and velocity (rigid ones included) is finite afterwards. A cheap screen, folded
+    /// into the pass that touches them anyway; `false` can also mean an overflowing sum, so the caller
+    /// scans for the culprit before it reports an error.
+    pub finite: bool,
+}
+
+impl StepSums {
+    const ZERO: StepSums = StepSums {
+        kinetic: 0.0,
+        damping_power: 0.0,
+        finite: true,
+    };
+
+    /// Adds the sums of the next chunk (always in chunk order, so the totals are deterministic).
+    fn then(self, b: &StepSums) -> StepSums {
+        StepSums {
+            kinetic: self.kinetic + b.kinetic,
+            damping_power: self.damping_power + b.damping_power,
+            finite: self.finite && b.finite,
+        }
+    }
+}
+
+/// Advances free particles one step.
 pub(crate) fn advance_free(
     parts: &mut Particles,
     force: &[Vec3],
@@ -25,7 +55,7 @@ pub(crate) fn advance_free(
     damping: f64,
     dt: f64,
     parallel: bool,
-) -> (f64, f64) {
+) -> StepSums {
     let Particles {
         pos,
         vel,
@@ -35,13 +65,15 @@ pub(crate) fn advance_free(
         ..
     } = parts;
     let (mass, inertia) = (&*mass, &*inertia);
-    let run = |start: usize, x: &mut [Vec3], v: &mut [Vec3], w: &mut [Vec3]| -> (f64, f64) {
-        let (mut ke, mut pd) = (0.0, 0.0);
+    let run = |start: usize, x: &mut [Vec3], v: &mut [Vec3], w: &mut [Vec3]| -> StepSums {
+        let (mut ke, mut pd, mut screen) = (0.0, 0.0, 0.0);
         for k in 0..x.len() {
             let i = start + k;
             let (m, inr) = (mass[i], inertia[i]);
             ke += 0.5 * (m * v[k].norm_squared() + inr * w[k].norm_squared());
             if is_rigid[i] {
+                // Moved by the walls already: only screened.
+                screen += 0.0 * (x[k].sum() + v[k].sum() + w[k].sum());
                 continue;
             }
             let cw = damping * inr / m;
@@ -51,32 +83,35 @@ pub(crate) fn advance_free(
             v[k] += f * (dt / m);
             x[k] += v[k] * dt;
             w[k] += t * (dt / inr);
+            // Zero times the state is zero unless some component is infinite or NaN.
+            screen += 0.0 * (x[k].sum() + v[k].sum() + w[k].sum());
         }
-        (ke, pd)
+        StepSums {
+            kinetic: ke,
+            damping_power: pd,
+            finite: screen.is_finite(),
+        }
     };
     if parallel {
         // Per-chunk partial sums collected in order, then added sequentially: deterministic.
-        let partial: Vec<(f64, f64)> = pos
+        let partial: Vec<StepSums> = pos
             .par_chunks_mut(CHUNK)
             .zip(vel.par_chunks_mut(CHUNK))
             .zip(omega.par_chunks_mut(CHUNK))
             .enumerate()
             .map(|(c, ((x, v), w))| run(c * CHUNK, x, v, w))
             .collect();
-        partial
-            .iter()
-            .fold((0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1))
+        partial.iter().fold(StepSums::ZERO, |a, b| a.then(b))
     } else {
         // Same chunking as the parallel path, so the floating-point sums are identical.
-        let mut acc = (0.0, 0.0);
+        let mut acc = StepSums::ZERO;
         for (c, ((x, v), w)) in pos
             .chunks_mut(CHUNK)
             .zip(vel.chunks_mut(CHUNK))
             .zip(omega.chunks_mut(CHUNK))
             .enumerate()
         {
-            let r = run(c * CHUNK, x, v, w);
-            acc = (acc.0 + r.0, acc.1 + r.1);
+            acc = acc.then(&run(c * CHUNK, x, v, w));
         }
         acc
     }

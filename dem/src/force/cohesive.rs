@@ -101,8 +101,6 @@ pub(crate) struct Batch {
     pub dv: [Lane; 3],
     pub wi: [Lane; 3],
     pub wj: [Lane; 3],
-    pub ri: Lane,
-    pub rj: Lane,
     /// This batch's pair constants, copied from a [`ConstWindow`] (whole-array copies: cheap, and the
     /// kernel then reads memory the compiler knows is not aliased by its outputs, so it vectorises).
     k: LaneConsts,
@@ -131,7 +129,7 @@ impl Batch {
         c: &ConstWindow,
         dt: f64,
     ) {
-        self.k = LaneConsts::from(c);
+        self.k.load(c);
         for l in 0..LANES {
             self.lane::<TANGENTIAL, ENERGY>(l, dt);
         }
@@ -141,7 +139,7 @@ impl Batch {
     fn lane<const TANGENTIAL: bool, const ENERGY: bool>(&mut self, l: usize, dt: f64) {
         let v3 = |a: &[Lane; 3]| Vec3::new(a[0][l], a[1][l], a[2][l]);
         let (d, dv, wi, wj) = (v3(&self.d), v3(&self.dv), v3(&self.wi), v3(&self.wj));
-        let (ri, rj) = (self.ri[l], self.rj[l]);
+        let (ri, rj) = (self.k.ri[l], self.k.rj[l]);
         let (k_n, de, df) = (self.k.k_n[l], self.k.delta_e[l], self.k.delta_f[l]);
         let (c_n, c_t, k_t) = (self.k.c_n[l], self.k.c_t[l], self.k.k_t[l]);
         let dist2 = d.norm_squared();
@@ -257,8 +255,6 @@ mod tests {
         let mut b = Batch::default();
         for (l, g) in gaps.iter().enumerate() {
             b.d[0][l] = 90.0 + g;
-            b.ri[l] = 45.0;
-            b.rj[l] = 45.0;
         }
         (b, consts)
     }

@@ -74,7 +74,6 @@ pub(crate) struct Kin {
     x: Vec3,
     v: Vec3,
     w: Vec3,
-    r: f64,
 }
 
 /// One block's share of the mutable arrays: its pairs' history and parked outputs, its particles' sums.
@@ -162,7 +161,6 @@ impl ForceBuffers {
                     x: parts.pos[i],
                     v: parts.vel[i],
                     w: parts.omega[i],
-                    r: parts.radius[i],
                 };
             }
         };
@@ -269,8 +267,6 @@ impl ForceBuffers {
                         lanes.wj[a][l] = kj.w[a];
                         lanes.h[a][l] = h[a];
                     }
-                    lanes.ri[l] = ki.r;
-                    lanes.rj[l] = kj.r;
                 }
                 lanes.evaluate::<T, E>(&ctx.consts.window(p), ctx.dt);
                 for l in 0..len {

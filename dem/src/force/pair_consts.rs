@@ -14,6 +14,9 @@ use crate::material::{PairCoefficients, PairParams};
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub(crate) struct PairConst {
     pub p: PairParams,
+    /// The two radii (constant between builds, so read from here rather than gathered per step).
+    pub ri: f64,
+    pub rj: f64,
     /// Square of the interaction reach r_i + r_j + delta_f.
     pub reach2: f64,
     /// k_N delta_e / (delta_f - delta_e).
@@ -29,6 +32,8 @@ impl PairConst {
         let reach = d_sum + delta_f;
         PairConst {
             p,
+            ri,
+            rj,
             reach2: reach * reach,
             slope: softening_slope(&p),
             fmt_per_df: if p.delta_f > 0.0 {
@@ -50,6 +55,8 @@ pub(crate) type Lane = [f64; LANES];
 /// that a window of `LANES` pairs starting at any pair is in bounds.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct PairConstArrays {
+    ri: Vec<f64>,
+    rj: Vec<f64>,
     reach2: Vec<f64>,
     k_n: Vec<f64>,
     slope: Vec<f64>,
@@ -65,6 +72,8 @@ pub(crate) struct PairConstArrays {
 /// The pair constants of one batch.
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct LaneConsts {
+    pub ri: Lane,
+    pub rj: Lane,
     pub reach2: Lane,
     pub k_n: Lane,
     pub slope: Lane,
@@ -80,6 +89,8 @@ pub(crate) struct LaneConsts {
 /// `LANES` consecutive pairs' constants.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct ConstWindow<'a> {
+    ri: &'a Lane,
+    rj: &'a Lane,
     reach2: &'a Lane,
     k_n: &'a Lane,
     slope: &'a Lane,
@@ -102,6 +113,8 @@ impl PairConstArrays {
         }
         for k in 0..len {
             let c = at(k);
+            self.ri[k] = c.ri;
+            self.rj[k] = c.rj;
             self.reach2[k] = c.reach2;
             self.k_n[k] = c.p.k_n;
             self.slope[k] = c.slope;
@@ -115,8 +128,10 @@ impl PairConstArrays {
         }
     }
 
-    fn columns_mut(&mut self) -> [&mut Vec<f64>; 10] {
+    fn columns_mut(&mut self) -> [&mut Vec<f64>; 12] {
         [
+            &mut self.ri,
+            &mut self.rj,
             &mut self.reach2,
             &mut self.k_n,
             &mut self.slope,
@@ -144,6 +159,8 @@ impl PairConstArrays {
                 .expect("window within the padded arrays")
         }
         ConstWindow {
+            ri: w(&self.ri, p),
+            rj: w(&self.rj, p),
             reach2: w(&self.reach2, p),
             k_n: w(&self.k_n, p),
             slope: w(&self.slope, p),
@@ -158,20 +175,22 @@ impl PairConstArrays {
     }
 }
 
-impl From<&ConstWindow<'_>> for LaneConsts {
+impl LaneConsts {
+    /// Copies a window in, field by field (64-byte moves the compiler keeps inline, where one
+    /// struct-sized assignment became a call to memcpy).
     #[inline(always)]
-    fn from(c: &ConstWindow<'_>) -> Self {
-        LaneConsts {
-            reach2: *c.reach2,
-            k_n: *c.k_n,
-            slope: *c.slope,
-            delta_e: *c.delta_e,
-            delta_f: *c.delta_f,
-            k_t: *c.k_t,
-            f_mt: *c.f_mt,
-            fmt_per_df: *c.fmt_per_df,
-            c_n: *c.c_n,
-            c_t: *c.c_t,
-        }
+    pub fn load(&mut self, c: &ConstWindow<'_>) {
+        self.ri = *c.ri;
+        self.rj = *c.rj;
+        self.reach2 = *c.reach2;
+        self.k_n = *c.k_n;
+        self.slope = *c.slope;
+        self.delta_e = *c.delta_e;
+        self.delta_f = *c.delta_f;
+        self.k_t = *c.k_t;
+        self.f_mt = *c.f_mt;
+        self.fmt_per_df = *c.fmt_per_df;
+        self.c_n = *c.c_n;
+        self.c_t = *c.c_t;
     }
 }
