@@ -13,6 +13,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .unwrap_or(d)
     };
     let (cells, steps, threads) = (arg(1, 24), arg(2, 100) as u64, arg(3, 1));
+    // Optional 4th argument "shuffle": the same packing stored in random order (as random insertion
+    // leaves an amorphous sample), to see what memory order costs.
+    let shuffle = std::env::args().nth(4).is_some_and(|s| s == "shuffle");
     let d = 90.0;
     let (mut p, bx) = hcp_lattice(
         cells,
@@ -28,6 +31,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         p.mass[i] = sphere_mass(1.0, r);
         p.inertia[i] = sphere_inertia(p.mass[i], r);
         p.vel[i].x = 0.01 * ((i * 7919 % 200) as f64 / 100.0 - 1.0);
+    }
+    if shuffle {
+        let n = p.len();
+        let mut order: Vec<usize> = (0..n).collect();
+        let mut state = 0x9e3779b97f4a7c15u64;
+        for k in (1..n).rev() {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            order.swap(k, (state % (k as u64 + 1)) as usize);
+        }
+        let src = p.clone();
+        for (dst, &from) in order.iter().enumerate() {
+            p.pos[dst] = src.pos[from];
+            p.vel[dst] = src.vel[from];
+        }
     }
     let par = if threads > 1 {
         Parallelism::Threads(threads)

@@ -80,6 +80,32 @@ impl Particles {
         self.inertia.iter_mut().for_each(|m| *m *= factor);
     }
 
+    /// Reorders the particles so that neighbours in space are neighbours in memory: by cells of edge
+    /// `cell` (at least one diameter is a good choice) in z, then y, then x order, ties kept in their
+    /// current order. Randomly inserted samples otherwise scatter every particle's partners over the
+    /// whole array, which halves the force loop's speed on 50 000 particles (cache misses, and most
+    /// pairs reaching outside their force block). Deterministic; returns the permutation applied
+    /// (`new index k` holds the particle that was at `order[k]`).
+    pub fn sort_by_cells(&mut self, lo: Vec3, cell: f64) -> Vec<usize> {
+        let key = |x: &Vec3| {
+            let c = |a: usize| ((x[a] - lo[a]) / cell).floor().max(0.0) as u64;
+            (c(2), c(1), c(0))
+        };
+        let mut order: Vec<usize> = (0..self.len()).collect();
+        order.sort_by_key(|&i| key(&self.pos[i]));
+        fn permute<T: Clone>(v: &mut Vec<T>, order: &[usize]) {
+            *v = order.iter().map(|&i| v[i].clone()).collect();
+        }
+        permute(&mut self.pos, &order);
+        permute(&mut self.vel, &order);
+        permute(&mut self.omega, &order);
+        permute(&mut self.radius, &order);
+        permute(&mut self.mass, &order);
+        permute(&mut self.inertia, &order);
+        permute(&mut self.group, &order);
+        order
+    }
+
     /// Keeps only the particles for which `keep(i)` is true, preserving order.
     pub fn retain(&mut self, mut keep: impl FnMut(usize) -> bool) {
         let mask: Vec<bool> = (0..self.len()).map(&mut keep).collect();
@@ -155,6 +181,29 @@ impl Particles {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn sorting_by_cells_orders_space_and_keeps_each_particle_whole() {
+        let mut p = Particles::default();
+        let xs = [
+            (2.5, 0.1, 0.2),
+            (0.5, 0.1, 1.5),
+            (0.2, 0.3, 0.1),
+            (1.5, 0.0, 0.0),
+        ];
+        for (k, &(x, y, z)) in xs.iter().enumerate() {
+            let i = p.push_sphere(Vec3::new(x, y, z), 0.1 + k as f64, 1.0);
+            p.group[i] = k as u32;
+        }
+        let order = p.sort_by_cells(Vec3::zeros(), 1.0);
+        // z cell first (particle 1 is in the second z layer), then x along the first row.
+        assert_eq!(order, vec![2, 3, 0, 1]);
+        for (k, &from) in order.iter().enumerate() {
+            assert_eq!(p.group[k], from as u32);
+            assert_eq!(p.radius[k], 0.1 + from as f64);
+            assert_eq!(p.pos[k].x, xs[from].0);
+        }
+    }
 
     #[test]
     fn retain_keeps_columns_aligned() {
