@@ -1,4 +1,4 @@
-//! Runs one MD job JSON in this process and prints the output as JSON: a way to exercise the
+//! Runs one MD job JSON (silica, model or junction) in this process and prints the output as JSON: a way to exercise the
 //! workflows without the `cgdem` binary (e.g. while experimenting with protocols).
 //! Usage: `cargo run --release -p md-bridge --example md_job -- JOB.json`
 
@@ -13,7 +13,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let out = match &job {
         Job::Junction(c) => JobOutput::Junction(Box::new(md_bridge::junction::run(&lmp, c)?)),
         Job::Model(c) => JobOutput::Model(Box::new(md_bridge::model::run(&lmp, c)?)),
-        other => return Err(format!("md_job runs junction and model jobs, not {other:?}").into()),
+        Job::Silica(c) => {
+            let pot = venv.potential(md_bridge::silica::POTENTIAL)?;
+            JobOutput::Silica(Box::new(md_bridge::silica::run(&lmp, &pot, c)?))
+        }
+        other => {
+            return Err(
+                format!("md_job runs silica, junction and model jobs, not {other:?}").into(),
+            )
+        }
     };
     println!("{}", serde_json::to_string_pretty(&out)?);
     Ok(())

@@ -21,7 +21,7 @@ use std::time::Instant;
 
 /// Version of the job protocols (scripts and measurement procedures). Part of the cache key: bump
 /// it whenever a change to the workflows would change results, so stale cache entries are not reused.
-pub const PROTOCOL_VERSION: u32 = 2;
+pub const PROTOCOL_VERSION: u32 = 3;
 
 /// What a worker can be asked to do.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -29,6 +29,9 @@ pub const PROTOCOL_VERSION: u32 = 2;
 pub enum Job {
     /// The silica reference workflow.
     Silica(SilicaConfig),
+    /// Only the melt-quench of the silica workflow; returns the glass as a LAMMPS data file (the
+    /// block that [`crate::silica::junction`] replicates into a cluster-size junction).
+    SilicaGlass(SilicaConfig),
     /// The 2D Lennard-Jones model material (small d*).
     Model(crate::model::ModelConfig),
     /// Junction shear of the model material, classified.
@@ -47,7 +50,7 @@ pub enum Job {
 impl Job {
     pub fn seed(&self) -> u64 {
         match self {
-            Job::Silica(c) => c.seed,
+            Job::Silica(c) | Job::SilicaGlass(c) => c.seed,
             Job::Model(c) => c.seed,
             Job::Junction(c) => c.seed,
             Job::Script { seed, .. } => *seed,
@@ -57,7 +60,7 @@ impl Job {
     /// Potential file (in the wheel's potentials dir) the job depends on.
     pub fn potential(&self) -> Option<&'static str> {
         match self {
-            Job::Silica(_) => Some(crate::silica::POTENTIAL),
+            Job::Silica(_) | Job::SilicaGlass(_) => Some(crate::silica::POTENTIAL),
             _ => None,
         }
     }
@@ -68,9 +71,17 @@ impl Job {
 #[serde(rename_all = "snake_case")]
 pub enum JobOutput {
     Silica(Box<SilicaResult>),
+    SilicaGlass {
+        /// kg/m^3, averaged over the anneal.
+        density: f64,
+        /// The glass as a LAMMPS data file (`write_data`, orthogonal box, with velocities).
+        data: String,
+    },
     Model(Box<crate::model::ModelResult>),
     Junction(Box<crate::junction::JunctionResult>),
-    Script { variables: BTreeMap<String, f64> },
+    Script {
+        variables: BTreeMap<String, f64>,
+    },
 }
 
 /// A typed failure reported by the worker (serialisable form of the [`MdError`] it hit).

@@ -15,6 +15,13 @@ fn execute(lmp: &Lammps, venv: &Venv, job: &Job) -> Result<JobOutput> {
             let pot = venv.potential(crate::silica::POTENTIAL)?;
             crate::silica::run(lmp, &pot, cfg).map(|r| JobOutput::Silica(Box::new(r)))
         }
+        Job::SilicaGlass(cfg) => {
+            let pot = venv.potential(crate::silica::POTENTIAL)?;
+            let path = Path::new(crate::silica::junction::GLASS_FILE);
+            let density = crate::silica::junction::write_glass(lmp, &pot, cfg, path)?;
+            let data = std::fs::read_to_string(path).map_err(|e| MdError::io(path, e))?;
+            Ok(JobOutput::SilicaGlass { density, data })
+        }
         Job::Model(cfg) => crate::model::run(lmp, cfg).map(|r| JobOutput::Model(Box::new(r))),
         Job::Junction(cfg) => {
             crate::junction::run(lmp, cfg).map(|r| JobOutput::Junction(Box::new(r)))

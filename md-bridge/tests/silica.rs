@@ -4,7 +4,7 @@
 
 mod common;
 
-use md_bridge::silica::{self, SilicaConfig};
+use md_bridge::silica::{self, measure, SilicaConfig};
 
 fn ci_config() -> SilicaConfig {
     SilicaConfig {
@@ -58,5 +58,32 @@ fn small_melt_quench_gives_plausible_glass_and_elastic_constants() {
         (0.1..0.32).contains(&r.poisson_ratio),
         "nu {}",
         r.poisson_ratio
+    );
+
+    // The same glass at 300 K: thermally averaged C_ij (short averages: loose band), then the
+    // 0 K reference is intact for the next measurement.
+    let thermal = SilicaConfig {
+        elastic_temperature: 300.0,
+        elastic_strain: 0.01,
+        elastic_md_ps: 0.3,
+        ..ci_config()
+    };
+    let reference = measure::relax_0k(&l, &thermal).unwrap();
+    let el = measure::elastic_thermal(&l, &thermal, &reference).unwrap();
+    eprintln!(
+        "300 K: C11 {:.1} C12 {:.1} C44 {:.1} E {:.1} GPa nu {:.3} (0 K: E {:.1})",
+        el.c11 / 1e9,
+        el.c12 / 1e9,
+        el.c44 / 1e9,
+        el.young / 1e9,
+        el.poisson,
+        r.young_modulus / 1e9
+    );
+    assert!(el.c11 > el.c12 && el.c12 > 0.0 && el.c44 > 0.0, "{el:?}");
+    assert!(
+        (el.young / r.young_modulus - 1.0).abs() < 0.25,
+        "E at 300 K {} vs 0 K {}",
+        el.young,
+        r.young_modulus
     );
 }

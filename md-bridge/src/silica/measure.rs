@@ -28,6 +28,14 @@ impl Reference {
 }
 
 /// Builds the random melt, melts, quenches, anneals; returns the mean anneal density in kg/m^3.
+///
+/// Choices: the melt runs at fixed volume (the start density), so the random start cannot blow
+/// the box up before it has mixed; the quench and anneal run NPT at zero pressure (`iso`), so the
+/// glass finds its own ambient density: the melt stays cohesive at zero pressure (measured:
+/// ~2.0 g/cm^3 at 5000 K) and densifies continuously on cooling. Thermostat damping 0.1 ps (100
+/// steps) and barostat damping 1 ps (1000 steps, LAMMPS's recommended ~1000 steps) follow the
+/// quench without ringing. The density is averaged over the second half of the anneal, after the
+/// barostat has settled.
 pub fn melt_quench(lmp: &Lammps, potential: &Path, cfg: &SilicaConfig) -> Result<f64> {
     let n = cfg.formula_units;
     let mass_g = n as f64 * (MASS_SI + 2.0 * MASS_O) / AVOGADRO;
@@ -135,27 +143,18 @@ pub fn isotropic(c11: f64, c12: f64, c44: f64) -> (f64, f64, f64, f64) {
     (k, g, e, nu)
 }
 
-/// C_ij by central differences: strain component j by +-e, relax ions at fixed box, read stress i.
+/// C_ij at 0 K by central differences: strain component j by +-e from the 0 K reference, relax the
+/// ions at fixed box (non-affine relaxation: a glass's static stiffness, well below the affine
+/// Born term), read stress i. The minimiser's force tolerance is on the global force norm.
 pub fn elastic(lmp: &Lammps, cfg: &SilicaConfig, r: &Reference) -> Result<Elastic> {
     let e = cfg.elastic_strain;
     let l = r.cell.lengths();
-    let deform = |j: usize, sign: f64| -> String {
-        let d = sign * e;
-        match j {
-            0 => format!("change_box all x scale {} remap units box", 1.0 + d),
-            1 => format!("change_box all y scale {} remap units box", 1.0 + d),
-            2 => format!("change_box all z scale {} remap units box", 1.0 + d),
-            3 => format!("change_box all yz delta {} remap units box", d * l[2]),
-            4 => format!("change_box all xz delta {} remap units box", d * l[2]),
-            _ => format!("change_box all xy delta {} remap units box", d * l[1]),
-        }
-    };
     let mut c = [[0.0; 6]; 6];
     for j in 0..6 {
         let mut s = [[0.0; 6]; 2];
         for (k, sign) in [1.0, -1.0].into_iter().enumerate() {
             r.restore(lmp)?;
-            lmp.command(&deform(j, sign))?;
+            lmp.command(&strain_command(j, sign * e, l))?;
             lmp.command(&format!("minimize 0.0 {} 20000 200000", cfg.min_ftol))?;
             s[k] = stress(lmp)?;
         }
@@ -164,22 +163,91 @@ pub fn elastic(lmp: &Lammps, cfg: &SilicaConfig, r: &Reference) -> Result<Elasti
         }
     }
     r.restore(lmp)?;
-    let avg =
-        |idx: &[(usize, usize)]| idx.iter().map(|&(i, j)| c[i][j]).sum::<f64>() / idx.len() as f64;
-    let c11 = avg(&[(0, 0), (1, 1), (2, 2)]);
-    let c12 = avg(&[(0, 1), (1, 0), (0, 2), (2, 0), (1, 2), (2, 1)]);
-    let c44 = avg(&[(3, 3), (4, 4), (5, 5)]);
-    let (bulk, shear, young, poisson) = isotropic(c11, c12, c44);
-    Ok(Elastic {
-        c,
-        c11,
-        c12,
-        c44,
-        bulk,
-        shear,
-        young,
-        poisson,
-    })
+    Ok(Elastic::from_stiffness(c))
+}
+
+impl Elastic {
+    /// Cubic averages of a measured 6x6 stiffness and their isotropic (Voigt) moduli.
+    pub fn from_stiffness(c: [[f64; 6]; 6]) -> Self {
+        let avg = |idx: &[(usize, usize)]| {
+            idx.iter().map(|&(i, j)| c[i][j]).sum::<f64>() / idx.len() as f64
+        };
+        let c11 = avg(&[(0, 0), (1, 1), (2, 2)]);
+        let c12 = avg(&[(0, 1), (1, 0), (0, 2), (2, 0), (1, 2), (2, 1)]);
+        let c44 = avg(&[(3, 3), (4, 4), (5, 5)]);
+        let (bulk, shear, young, poisson) = isotropic(c11, c12, c44);
+        Self {
+            c,
+            c11,
+            c12,
+            c44,
+            bulk,
+            shear,
+            young,
+            poisson,
+        }
+    }
+}
+
+/// C_ij at `elastic_temperature` > 0: the glass is thermalised stress-free at T (NPT, 2 ps), then
+/// for each strain component and sign the box is deformed by +-`elastic_strain` from that same
+/// thermal state (positions, velocities, box), equilibrated 0.5 ps in NVT and the stress averaged
+/// over `elastic_md_ps`. Central differences cancel the residual stress of the base state.
+/// This is the isothermal, thermally averaged stiffness (ions relax by thermal motion, and the
+/// anharmonic softening at T is included), the counterpart of the 0 K relaxed-ion [`elastic`].
+/// Statistical error ~ stress noise / (2 strain): use a strain of ~0.01 and >= 2 ps on small cells.
+pub fn elastic_thermal(lmp: &Lammps, cfg: &SilicaConfig, r: &Reference) -> Result<Elastic> {
+    let t = cfg.elastic_temperature;
+    thermalise(lmp, cfg, r, t, 3)?;
+    let base = (
+        lmp.box_state()?,
+        lmp.gather_f64("x", 3)?,
+        lmp.gather_f64("v", 3)?,
+    );
+    let l = base.0.lengths();
+    let e = cfg.elastic_strain;
+    let (eq, avg) = (cfg.steps(0.5), cfg.steps(cfg.elastic_md_ps));
+    let mut c = [[0.0; 6]; 6];
+    for j in 0..6 {
+        let mut s = [[0.0; 6]; 2];
+        for (k, sign) in [1.0, -1.0].into_iter().enumerate() {
+            lmp.set_box(&base.0)?;
+            lmp.scatter_f64("x", 3, &base.1)?;
+            lmp.scatter_f64("v", 3, &base.2)?;
+            lmp.command(&strain_command(j, sign * e, l))?;
+            // compute thermo_press vector order: xx yy zz xy xz yz.
+            lmp.commands(&format!(
+                "fix md all nvt temp {t} {t} 0.1
+run {eq}
+reset_timestep 0
+fix sav all ave/time 1 {avg} {avg} c_thermo_press[1] c_thermo_press[2] c_thermo_press[3] c_thermo_press[6] c_thermo_press[5] c_thermo_press[4]
+run {avg}"
+            ))?;
+            for (i, si) in s[k].iter_mut().enumerate() {
+                lmp.command(&format!("variable sav equal f_sav[{}]", i + 1))?;
+                *si = -lmp.variable("sav")? * BAR_TO_PA;
+            }
+            lmp.commands("unfix sav\nunfix md\nreset_timestep 0")?;
+        }
+        for (i, row) in c.iter_mut().enumerate() {
+            row[j] = (s[0][i] - s[1][i]) / (2.0 * e);
+        }
+    }
+    r.restore(lmp)?;
+    Ok(Elastic::from_stiffness(c))
+}
+
+/// `change_box` applying Voigt strain component `j` of size `d` to a box of lengths `l`
+/// (engineering shear strains: tilt = d x the length normal to the sheared face).
+fn strain_command(j: usize, d: f64, l: [f64; 3]) -> String {
+    match j {
+        0 => format!("change_box all x scale {} remap units box", 1.0 + d),
+        1 => format!("change_box all y scale {} remap units box", 1.0 + d),
+        2 => format!("change_box all z scale {} remap units box", 1.0 + d),
+        3 => format!("change_box all yz delta {} remap units box", d * l[2]),
+        4 => format!("change_box all xz delta {} remap units box", d * l[2]),
+        _ => format!("change_box all xy delta {} remap units box", d * l[1]),
+    }
 }
 
 /// Loading ramp of the strength tests: 0.25 % strain per recorded point, up to `max_strain`.
@@ -192,11 +260,16 @@ fn ramp(cfg: &SilicaConfig, max_strain: f64) -> Ramp {
     }
 }
 
-/// Thermalises the reference state at `strength_temperature` and zero stress (all six components)
-/// for 2 ps, so the loading starts from a stress-free state at temperature.
-fn thermalise(lmp: &Lammps, cfg: &SilicaConfig, r: &Reference, seed_offset: u64) -> Result<()> {
+/// Thermalises the reference state at `t` and zero stress (all six components) for 2 ps, so the
+/// loading starts from a stress-free state at temperature.
+fn thermalise(
+    lmp: &Lammps,
+    cfg: &SilicaConfig,
+    r: &Reference,
+    t: f64,
+    seed_offset: u64,
+) -> Result<()> {
     r.restore(lmp)?;
-    let t = cfg.strength_temperature;
     lmp.commands(&format!(
         "reset_timestep 0
 velocity all create {t2} {s} mom yes rot yes dist gaussian
@@ -212,7 +285,7 @@ reset_timestep 0",
 
 /// Uniaxial tension along x, lateral faces stress-free, to failure: the ideal tensile strength.
 pub fn tension(lmp: &Lammps, cfg: &SilicaConfig, r: &Reference) -> Result<Strength> {
-    thermalise(lmp, cfg, r, 1)?;
+    thermalise(lmp, cfg, r, cfg.strength_temperature, 1)?;
     let t = cfg.strength_temperature;
     lmp.commands(&format!(
         "variable lx0 equal {lx0}
@@ -237,7 +310,7 @@ fix def all deform 1 x erate {rate} remap x",
 
 /// Simple shear in xy at constant volume to past the peak: the shear strength.
 pub fn shear(lmp: &Lammps, cfg: &SilicaConfig, r: &Reference) -> Result<Strength> {
-    thermalise(lmp, cfg, r, 2)?;
+    thermalise(lmp, cfg, r, cfg.strength_temperature, 2)?;
     let t = cfg.strength_temperature;
     lmp.commands(&format!(
         "variable xy0 equal {xy0}
