@@ -204,11 +204,8 @@ impl ForceBuffers {
     ) -> PairEnergyTotals {
         let n = ctx.kin.len();
         self.out.resize(list.len(), Parked::default());
-        self.force.iter_mut().for_each(|f| *f = Vec3::zeros());
-        self.torque.iter_mut().for_each(|t| *t = Vec3::zeros());
-        if phase.virial {
-            self.virial.iter_mut().for_each(|w| *w = Matrix3::zeros());
-        } else {
+        // Each block zeroes its own sums (in parallel); only phase 2 writes across blocks.
+        if !phase.virial {
             self.virial.clear();
         }
         // Split the pair arrays at block boundaries (rows are contiguous per particle).
@@ -247,6 +244,11 @@ impl ForceBuffers {
                    }: BlockTask<'_>| {
             let (k0, k1) = (b * BLOCK, ((b + 1) * BLOCK).min(n));
             let (p0, p1) = (rows[k0] as usize, rows[k1] as usize);
+            f.fill(Vec3::zeros());
+            t.fill(Vec3::zeros());
+            if let Some(w) = w.as_deref_mut() {
+                w.fill(Matrix3::zeros());
+            }
             let mut totals = PairEnergyTotals::default();
             let mut lanes = Batch::default();
             let mut p = p0;
