@@ -2,7 +2,8 @@
 //! evaluation cache and the per-iteration checkpoint. The solver maths lives in [`crate::lm`].
 //!
 //! - **Iteration** = one trial step (accepted or rejected). The Jacobian is recomputed only after an
-//!   accepted step, so a rejection costs one evaluation.
+//!   accepted step, so a rejection costs one evaluation; with `broyden` it is updated by the secant of
+//!   every trial step instead and recomputed only after `refresh_after` rejections in a row.
 //! - **Finite differences** (when the problem has no analytic Jacobian): forward differences in the
 //!   unknowns (log multipliers), the n perturbed points evaluated in parallel with rayon and collected
 //!   in order. The step `fd_step` trades truncation error (the patch-test outputs are close to power
@@ -55,7 +56,8 @@ pub struct Settings {
     /// Broyden (secant) updates: after every trial step, accepted or rejected, the Jacobian takes the
     /// rank-1 correction J += (dr - J h) h^T / |h|^2 that makes it reproduce the measured change (only
     /// for steps of at least fd_step / 2: shorter ones are inside the noise scale), and
-    /// is recomputed by finite differences only after `refresh_after` rejections in a row (Madsen,
+    /// is recomputed by finite differences only after `refresh_after` rejections in a row, if an
+    /// accepted step has moved the point since the last finite differences (Madsen,
     /// Nielsen & Tingleff 2004, section 3.4); default false (fresh finite differences after every
     /// accepted step). One evaluation per iteration instead of n + 1, and every trial, even a rejected
     /// one, teaches the model something: on noisy responses the secant over a real step is a better
@@ -134,6 +136,10 @@ pub struct State {
     /// Trial steps rejected since the last accepted one (Broyden refresh rule).
     #[serde(default)]
     pub rejections: usize,
+    /// An accepted step since the Jacobian was last computed (a refresh at the same point would
+    /// only repeat it).
+    #[serde(default)]
+    pub moved: bool,
     /// Evaluations requested (cache hits included, so the count is the same after a resume).
     pub evaluations: usize,
     pub status: Status,
@@ -413,6 +419,7 @@ impl<'a, P: Problem> Executor<'a, P> {
                 nu: 2.0,
                 iteration: 0,
                 rejections: 0,
+                moved: false,
                 evaluations: 1,
                 status: Status::Running,
             },
@@ -453,6 +460,7 @@ impl<'a, P: Problem> Executor<'a, P> {
                 st.lambda
                     .get_or_insert_with(|| lm::initial_lambda(&j, s.tau));
                 st.jacobian = Some(j);
+                st.moved = false;
                 // Keep the finite-difference work even if the process dies in the trial evaluation.
                 self.save(&cp)?;
             }
@@ -508,7 +516,8 @@ impl<'a, P: Problem> Executor<'a, P> {
                 }
             }
             st.rejections = if accepted { 0 } else { st.rejections + 1 };
-            if st.rejections >= s.refresh_after {
+            st.moved |= accepted;
+            if st.rejections >= s.refresh_after && st.moved {
                 // The secant model has misled twice in a row: fresh finite differences here, and
                 // the damping restarts from them.
                 st.jacobian = None;

@@ -292,6 +292,14 @@ impl PatchProblem {
                     e.steps
                 )));
             }
+            // A sample that is not at rest under the trial parameters can contract or rearrange
+            // during the test; a non-positive E or a nu outside (-1, 1/2) is no measurement.
+            if !(e.young_modulus > 0.0 && e.poisson_ratio > -1.0 && e.poisson_ratio < 0.5) {
+                return Err(EvalFailure(format!(
+                    "elastic test gave E = {:.3e}, nu = {:.3} (sample not at rest?)",
+                    e.young_modulus, e.poisson_ratio
+                )));
+            }
             p.young_modulus = Some(e.young_modulus);
             p.poisson_ratio = Some(e.poisson_ratio);
         }
