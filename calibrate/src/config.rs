@@ -7,6 +7,8 @@ use dem::material::{ForceLaw, Material, PairModel, ParamScale};
 use dem::sample::RelaxConfig;
 use dem::scenario::patch::suite::SampleSpec;
 use dem::UnitSystem;
+use std::path::{Path, PathBuf};
+
 use serde::{Deserialize, Serialize};
 
 use crate::error::{CalibrateError, Result};
@@ -73,6 +75,40 @@ impl SiMaterial {
     }
 }
 
+/// An MD material card used as the calibration target.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CardRef {
+    /// The card's path; a relative path is taken from the calibration config's folder.
+    pub path: PathBuf,
+    /// Exponent s of eq (10): a modelling choice the MD card cannot measure; default 0.5 (paper 000
+    /// section 4, constant gamma for silica).
+    #[serde(default = "half")]
+    pub scaling: f64,
+}
+
+/// The part of a material card the calibration reads (the card's other tables, such as its
+/// provenance, are kept with the card, not checked here).
+#[derive(Debug, Deserialize)]
+struct CardFile {
+    material: CardMaterial,
+}
+
+/// A card's `[material]` table: [`SiMaterial`] without the scaling exponent.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CardMaterial {
+    #[serde(default)]
+    name: Option<String>,
+    young_modulus: f64,
+    poisson_ratio: f64,
+    tensile_strength: f64,
+    shear_strength: f64,
+    surface_energy: f64,
+    restitution: f64,
+    density: f64,
+}
+
 /// The whole calibration input.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -83,6 +119,10 @@ pub struct CalibrationConfig {
     /// Target material in SI, converted with UnitSystem::NANO (nm, ns, ag).
     #[serde(default)]
     pub material_si: Option<SiMaterial>,
+    /// Target material from an MD material card file (what `cgdem md silica` writes); read by
+    /// [`CalibrationConfig::from_file`] into `material_si`. Default none.
+    #[serde(default)]
+    pub material_card: Option<CardRef>,
     /// Force law; default cohesive (paper 000).
     #[serde(default = "cohesive")]
     pub law: ForceLaw,
@@ -146,6 +186,43 @@ impl CalibrationConfig {
         toml::from_str(text).map_err(|e| CalibrateError::InvalidConfig(e.to_string()))
     }
 
+    /// Reads a config file, and the material card it names (if any) into `material_si`.
+    pub fn from_file(path: &Path) -> Result<Self> {
+        let io = |p: &Path, e: std::io::Error| CalibrateError::Io {
+            path: p.display().to_string(),
+            reason: e.to_string(),
+        };
+        let text = std::fs::read_to_string(path).map_err(|e| io(path, e))?;
+        let mut cfg = Self::from_toml(&text)?;
+        if let Some(card) = &cfg.material_card {
+            if cfg.material.is_some() || cfg.material_si.is_some() {
+                return Err(CalibrateError::InvalidConfig(
+                    "give exactly one of [material], [material_si] and [material_card]".into(),
+                ));
+            }
+            let card_path = path.parent().unwrap_or(Path::new(".")).join(&card.path);
+            let text = std::fs::read_to_string(&card_path).map_err(|e| io(&card_path, e))?;
+            let m = toml::from_str::<CardFile>(&text)
+                .map_err(|e| CalibrateError::Format {
+                    path: card_path.display().to_string(),
+                    reason: e.to_string(),
+                })?
+                .material;
+            cfg.material_si = Some(SiMaterial {
+                name: m.name,
+                young_modulus: m.young_modulus,
+                poisson_ratio: m.poisson_ratio,
+                tensile_strength: m.tensile_strength,
+                shear_strength: m.shear_strength,
+                surface_energy: m.surface_energy,
+                restitution: m.restitution,
+                density: m.density,
+                scaling: card.scaling,
+            });
+        }
+        Ok(cfg)
+    }
+
     /// Checks everything that can be checked without a simulation, and refuses unreachable targets.
     pub fn prepare(&self) -> Result<Prepared> {
         let (target, units) = match (&self.material, &self.material_si) {
@@ -153,7 +230,9 @@ impl CalibrationConfig {
             (None, Some(si)) => (si.to_engine(UnitSystem::NANO), UnitSystem::NANO),
             _ => {
                 return Err(CalibrateError::InvalidConfig(
-                    "give exactly one of [material] (engine units) and [material_si] (SI)".into(),
+                    "give exactly one of [material] (engine units), [material_si] (SI) and \
+                     [material_card] (an MD card, read by CalibrationConfig::from_file)"
+                        .into(),
                 ))
             }
         };

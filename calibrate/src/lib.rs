@@ -25,7 +25,7 @@ pub mod problem;
 pub mod run;
 
 pub use card::CalibratedCard;
-pub use config::{CalibrationConfig, SiMaterial};
+pub use config::{CalibrationConfig, CardRef, SiMaterial};
 pub use error::{CalibrateError, Result};
 pub use executor::{Checkpoint, Executor, Record, Settings, State, Status};
 pub use patch_problem::{PatchProblem, Properties, Target, TestSettings, Unknown};

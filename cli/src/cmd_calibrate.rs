@@ -110,10 +110,8 @@ pub(crate) fn run_config(
 
 /// Runs `cgdem calibrate`.
 pub fn run(args: CalibrateArgs, threads: usize) -> Result<()> {
-    let text = std::fs::read_to_string(&args.config)
+    let cfg = CalibrationConfig::from_file(&args.config)
         .with_context(|| format!("reading {}", args.config.display()))?;
-    let cfg = CalibrationConfig::from_toml(&text)
-        .with_context(|| format!("parsing {}", args.config.display()))?;
     cfg.prepare()
         .with_context(|| format!("checking {}", args.config.display()))?;
     run_config(&cfg, &args.out, threads)?;
