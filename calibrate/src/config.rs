@@ -87,26 +87,11 @@ pub struct CardRef {
     pub scaling: f64,
 }
 
-/// The part of a material card the calibration reads (the card's other tables, such as its
-/// provenance, are kept with the card, not checked here).
+/// The part of a material card the calibration reads: its `[material]` table is an [`SiMaterial`]
+/// without the scaling exponent (the card's other tables, such as its provenance, stay with the card).
 #[derive(Debug, Deserialize)]
 struct CardFile {
-    material: CardMaterial,
-}
-
-/// A card's `[material]` table: [`SiMaterial`] without the scaling exponent.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct CardMaterial {
-    #[serde(default)]
-    name: Option<String>,
-    young_modulus: f64,
-    poisson_ratio: f64,
-    tensile_strength: f64,
-    shear_strength: f64,
-    surface_energy: f64,
-    restitution: f64,
-    density: f64,
+    material: SiMaterial,
 }
 
 /// The whole calibration input.
@@ -202,23 +187,14 @@ impl CalibrationConfig {
             }
             let card_path = path.parent().unwrap_or(Path::new(".")).join(&card.path);
             let text = std::fs::read_to_string(&card_path).map_err(|e| io(&card_path, e))?;
-            let m = toml::from_str::<CardFile>(&text)
+            let mut m = toml::from_str::<CardFile>(&text)
                 .map_err(|e| CalibrateError::Format {
                     path: card_path.display().to_string(),
                     reason: e.to_string(),
                 })?
                 .material;
-            cfg.material_si = Some(SiMaterial {
-                name: m.name,
-                young_modulus: m.young_modulus,
-                poisson_ratio: m.poisson_ratio,
-                tensile_strength: m.tensile_strength,
-                shear_strength: m.shear_strength,
-                surface_energy: m.surface_energy,
-                restitution: m.restitution,
-                density: m.density,
-                scaling: card.scaling,
-            });
+            m.scaling = card.scaling;
+            cfg.material_si = Some(m);
         }
         Ok(cfg)
     }

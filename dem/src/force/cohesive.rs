@@ -86,7 +86,7 @@ pub fn tangential_cap(p: &PairParams, dn: f64) -> f64 {
 /// Rotates `h` (in the plane normal to `a`) by the smallest rotation that takes unit `a` to unit `b`
 /// (Rodrigues, with k = a x b, c = a . b and `inv_1pc` = 1 / (1 + c)): the spring turns with the pair
 /// and keeps its length.
-#[cfg(test)]
+#[inline(always)]
 fn rotate_between(h: Vec3, a: &Vec3, b: &Vec3, inv_1pc: f64) -> Vec3 {
     let k = a.cross(b);
     h * a.dot(b) + k.cross(&h) + k * (k.dot(&h) * inv_1pc)
@@ -186,8 +186,7 @@ impl Batch {
             // keeps its length (k = n_prev x n, c = n_prev . n, 1/(1 + c) as a series).
             let h_old = v3(&self.h);
             let inv_1pc = 0.5 * (1.0 + e * (0.5 + 0.25 * e));
-            let k = n_prev.cross(&n);
-            h = h_old * cos + k.cross(&h_old) + k * (k.dot(&h_old) * inv_1pc);
+            h = rotate_between(h_old, &n_prev, &n, inv_1pc);
             h += v_mid * dt;
             h -= h.dot(&n) * n;
             // Eq (5): the cap shrinks linearly to zero at delta_f; eq (4): slide at the cap.
