@@ -60,6 +60,17 @@ pub(crate) struct PairEnergyTotals {
     pub slid: f64,
 }
 
+impl PairEnergyTotals {
+    fn then(self, b: &PairEnergyTotals) -> PairEnergyTotals {
+        PairEnergyTotals {
+            normal: self.normal + b.normal,
+            tangential: self.tangential + b.tangential,
+            damping_power: self.damping_power + b.damping_power,
+            slid: self.slid + b.slid,
+        }
+    }
+}
+
 /// What to compute besides forces and torques.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct ForcePhase {
@@ -76,14 +87,187 @@ pub(crate) struct Kin {
     w: Vec3,
 }
 
-/// One block's share of the mutable arrays: its pairs' history and parked outputs, its particles' sums.
-struct BlockTask<'a> {
-    b: usize,
+/// The read-only pair arrays of the neighbour list, and the block count.
+struct Pairs<'a> {
+    i: &'a [u32],
+    j: &'a [u32],
+    image: &'a [[i8; 3]],
+    row_start: &'a [u32],
+    n: usize,
+}
+
+impl Pairs<'_> {
+    /// First particle of block `b` (or `n` past the end).
+    fn block_start(&self, b: usize) -> usize {
+        (b * BLOCK).min(self.n)
+    }
+}
+
+/// A run of units of one colour and the tails of the mutable arrays from the span's first block on.
+/// Unit `u` of colour `c` is block `2 u + c`, which owns the sums of blocks `2 u + c` and
+/// `2 u + c + 1` while its colour runs. Spans split in halves (rayon::join when parallel), so no task
+/// list is allocated per step; the energy totals combine along the same fixed tree for any thread count.
+struct Span<'a> {
+    units: std::ops::Range<usize>,
+    colour: usize,
     hist: &'a mut [Vec3],
     out: &'a mut [Parked],
     f: &'a mut [Vec3],
     t: &'a mut [Vec3],
     w: Option<&'a mut [Matrix3<f64>]>,
+}
+
+impl<'a> Span<'a> {
+    fn first_block(&self, u: usize) -> usize {
+        2 * u + self.colour
+    }
+
+    fn run<const T: bool, const E: bool>(
+        self,
+        ctx: &Ctx,
+        pairs: &Pairs,
+        parallel: bool,
+    ) -> PairEnergyTotals {
+        match self.units.len() {
+            0 => PairEnergyTotals::default(),
+            1 => self.block::<T, E>(ctx, pairs),
+            len => {
+                let mid = self.units.start + len / 2;
+                let (left, right) = self.split(mid, pairs);
+                let (a, b) = if parallel {
+                    rayon::join(
+                        || left.run::<T, E>(ctx, pairs, true),
+                        || right.run::<T, E>(ctx, pairs, true),
+                    )
+                } else {
+                    (
+                        left.run::<T, E>(ctx, pairs, false),
+                        right.run::<T, E>(ctx, pairs, false),
+                    )
+                };
+                a.then(&b)
+            }
+        }
+    }
+
+    /// Splits before unit `mid`.
+    fn split(self, mid: usize, pairs: &Pairs) -> (Span<'a>, Span<'a>) {
+        let k0 = pairs.block_start(self.first_block(self.units.start));
+        let km = pairs.block_start(self.first_block(mid));
+        let pm = (pairs.row_start[km] - pairs.row_start[k0]) as usize;
+        let (h0, h1) = self.hist.split_at_mut(pm);
+        let (o0, o1) = self.out.split_at_mut(pm);
+        let (f0, f1) = self.f.split_at_mut(km - k0);
+        let (t0, t1) = self.t.split_at_mut(km - k0);
+        let (w0, w1) = match self.w {
+            Some(w) => {
+                let (a, b) = w.split_at_mut(km - k0);
+                (Some(a), Some(b))
+            }
+            None => (None, None),
+        };
+        let colour = self.colour;
+        (
+            Span {
+                units: self.units.start..mid,
+                colour,
+                hist: h0,
+                out: o0,
+                f: f0,
+                t: t0,
+                w: w0,
+            },
+            Span {
+                units: mid..self.units.end,
+                colour,
+                hist: h1,
+                out: o1,
+                f: f1,
+                t: t1,
+                w: w1,
+            },
+        )
+    }
+
+    /// One block: its rows in pair order, batched `LANES` pairs at a time across rows. A pair adds to
+    /// its first particle and, when the second lies in this block or the next, to the second too;
+    /// otherwise it parks the second's share in `out`.
+    fn block<const T: bool, const E: bool>(self, ctx: &Ctx, pairs: &Pairs) -> PairEnergyTotals {
+        let Span {
+            units,
+            hist,
+            out,
+            f,
+            t,
+            mut w,
+            ..
+        } = self;
+        let b = 2 * units.start + self.colour;
+        let (k0, k1) = (pairs.block_start(b), pairs.block_start(b + 1));
+        // This span's slices end where the next unit starts: two blocks on (or the last particle).
+        let reach = k0 + f.len();
+        if self.colour == 0 {
+            f.fill(Vec3::zeros());
+            t.fill(Vec3::zeros());
+            if let Some(w) = w.as_deref_mut() {
+                w.fill(Matrix3::zeros());
+            }
+        }
+        let (li, lj, limg) = (pairs.i, pairs.j, pairs.image);
+        let (p0, p1) = (pairs.row_start[k0] as usize, pairs.row_start[k1] as usize);
+        let mut totals = PairEnergyTotals::default();
+        let mut lanes = Batch::default();
+        let mut p = p0;
+        while p < p1 {
+            let len = (p1 - p).min(LANES);
+            for l in 0..len {
+                let q = p + l;
+                let (i, j) = (li[q] as usize, lj[q] as usize);
+                let (ki, kj) = (&ctx.kin[i], &ctx.kin[j]);
+                let d = ctx.separation(i, j, limg[q]);
+                let dv = ki.v - kj.v;
+                let h = hist[q - p0];
+                for a in 0..3 {
+                    lanes.d[a][l] = d[a];
+                    lanes.dv[a][l] = dv[a];
+                    lanes.wi[a][l] = ki.w[a];
+                    lanes.wj[a][l] = kj.w[a];
+                    lanes.h[a][l] = h[a];
+                }
+            }
+            lanes.evaluate::<T, E>(&ctx.consts.window(p), ctx.dt);
+            for l in 0..len {
+                let q = p + l;
+                let (i, j) = (li[q] as usize, lj[q] as usize);
+                let v3 = |a: &[[f64; LANES]; 3]| Vec3::new(a[0][l], a[1][l], a[2][l]);
+                let (fp, tip, tjp) = (v3(&lanes.f), v3(&lanes.ti), v3(&lanes.tj));
+                hist[q - p0] = v3(&lanes.h);
+                f[i - k0] += fp;
+                t[i - k0] += tip;
+                if j < reach {
+                    f[j - k0] -= fp;
+                    t[j - k0] += tjp;
+                } else {
+                    out[q - p0] = Parked { f: fp, tj: tjp };
+                }
+                if let Some(w) = w.as_deref_mut() {
+                    let wp = -0.5 * v3(&lanes.d) * fp.transpose();
+                    w[i - k0] += wp;
+                    if j < reach {
+                        w[j - k0] += wp;
+                    }
+                }
+                if E {
+                    totals.normal += lanes.e_normal[l];
+                    totals.tangential += lanes.e_tangential[l];
+                    totals.damping_power += lanes.damping_power[l];
+                    totals.slid += lanes.slid[l];
+                }
+            }
+            p += len;
+        }
+        totals
+    }
 }
 
 /// Read-only inputs of the pair loop.
@@ -126,10 +310,13 @@ impl ForceBuffers {
         self.parked_pair.clear();
         self.parked_start.push(0);
         for k in 0..n {
+            // Pairs from this block and the one before are added directly (see `blocked`).
             let k0 = (k / BLOCK) * BLOCK;
             let rev = &list.rev_pair[list.rev_start[k] as usize..list.rev_start[k + 1] as usize];
-            self.parked_pair
-                .extend(rev.iter().filter(|&&p| (list.i[p as usize] as usize) < k0));
+            self.parked_pair.extend(
+                rev.iter()
+                    .filter(|&&p| list.i[p as usize] as usize + BLOCK < k0),
+            );
             self.parked_start.push(self.parked_pair.len() as u32);
         }
         self.built_for = Some(list.builds);
@@ -190,12 +377,14 @@ impl ForceBuffers {
         totals
     }
 
-    /// The pair loop over fixed blocks of `BLOCK` particles (the same blocks for any thread count).
-    /// Phase 1, one task per block: rows are walked in order; a pair whose second particle lies in the
-    /// same block adds to both particles at once, a pair reaching into a later block adds to its first
-    /// particle and parks its output in `out`. Phase 2, per particle: the parked contributions of earlier
-    /// blocks are added in pair order. The sums therefore happen in the same order whether the blocks run
-    /// on one thread or many: bit-identical results.
+    /// The pair loop over fixed blocks of `BLOCK` particles (the same blocks for any thread count), in
+    /// two colours. A block's pairs reach its own particles and, in a packing stored in space order,
+    /// the next block's: so block `b` writes straight into the sums of blocks `b` and `b + 1`. Colour 0
+    /// runs the even blocks (each owning the slice of blocks `b, b + 1`, which it zeroes first), colour
+    /// 1 the odd ones, each colour's blocks in parallel; only the rare pairs reaching two blocks or more
+    /// ahead are parked and added per particle afterwards. Every particle therefore receives its terms
+    /// in one fixed order (its even block's, then its odd block's, then parked ones, each in pair order),
+    /// whether the blocks run on one thread or many: bit-identical results.
     fn blocked<const T: bool, const E: bool>(
         &mut self,
         ctx: &Ctx,
@@ -204,166 +393,80 @@ impl ForceBuffers {
     ) -> PairEnergyTotals {
         let n = ctx.kin.len();
         self.out.resize(list.len(), Parked::default());
-        // Each block zeroes its own sums (in parallel); only phase 2 writes across blocks.
         if !phase.virial {
             self.virial.clear();
         }
-        // Split the pair arrays at block boundaries (rows are contiguous per particle).
         let nb = n.div_ceil(BLOCK);
-        let mut tasks = Vec::with_capacity(nb);
-        {
-            let (mut hist, mut out) = (&mut list.hist[..], &mut self.out[..]);
-            let mut force = self.force.chunks_mut(BLOCK);
-            let mut torque = self.torque.chunks_mut(BLOCK);
-            let mut virial = self.virial.chunks_mut(BLOCK);
-            for b in 0..nb {
-                let rows = list.row_start[(b * BLOCK).min(n)] as usize
-                    ..list.row_start[((b + 1) * BLOCK).min(n)] as usize;
-                let (h, hr) = std::mem::take(&mut hist).split_at_mut(rows.len());
-                let (o, or) = std::mem::take(&mut out).split_at_mut(rows.len());
-                hist = hr;
-                out = or;
-                tasks.push(BlockTask {
-                    b,
-                    hist: h,
-                    out: o,
-                    f: force.next().unwrap_or_default(),
-                    t: torque.next().unwrap_or_default(),
-                    w: virial.next(),
-                });
-            }
-        }
-        let (li, lj, limg, rows) = (&list.i, &list.j, &list.image, &list.row_start);
-        let run = |BlockTask {
-                       b,
-                       hist,
-                       out,
-                       f,
-                       t,
-                       mut w,
-                   }: BlockTask<'_>| {
-            let (k0, k1) = (b * BLOCK, ((b + 1) * BLOCK).min(n));
-            let (p0, p1) = (rows[k0] as usize, rows[k1] as usize);
-            f.fill(Vec3::zeros());
-            t.fill(Vec3::zeros());
-            if let Some(w) = w.as_deref_mut() {
-                w.fill(Matrix3::zeros());
-            }
-            let mut totals = PairEnergyTotals::default();
-            let mut lanes = Batch::default();
-            let mut p = p0;
-            // Batches run across rows; the sums below still happen in pair order.
-            while p < p1 {
-                let len = (p1 - p).min(LANES);
-                for l in 0..len {
-                    let q = p + l;
-                    let (i, j) = (li[q] as usize, lj[q] as usize);
-                    let (ki, kj) = (&ctx.kin[i], &ctx.kin[j]);
-                    let d = ctx.separation(i, j, limg[q]);
-                    let dv = ki.v - kj.v;
-                    let h = hist[q - p0];
-                    for a in 0..3 {
-                        lanes.d[a][l] = d[a];
-                        lanes.dv[a][l] = dv[a];
-                        lanes.wi[a][l] = ki.w[a];
-                        lanes.wj[a][l] = kj.w[a];
-                        lanes.h[a][l] = h[a];
-                    }
-                }
-                lanes.evaluate::<T, E>(&ctx.consts.window(p), ctx.dt);
-                for l in 0..len {
-                    let q = p + l;
-                    let (i, j) = (li[q] as usize, lj[q] as usize);
-                    let v3 = |a: &[[f64; LANES]; 3]| Vec3::new(a[0][l], a[1][l], a[2][l]);
-                    let (fp, tip, tjp) = (v3(&lanes.f), v3(&lanes.ti), v3(&lanes.tj));
-                    hist[q - p0] = v3(&lanes.h);
-                    f[i - k0] += fp;
-                    t[i - k0] += tip;
-                    if j == i {
-                        f[i - k0] -= fp;
-                        t[i - k0] += tjp;
-                    } else if j < k1 {
-                        f[j - k0] -= fp;
-                        t[j - k0] += tjp;
-                    } else {
-                        out[q - p0] = Parked { f: fp, tj: tjp };
-                    }
-                    if let Some(w) = w.as_deref_mut() {
-                        let wp = -0.5 * v3(&lanes.d) * fp.transpose();
-                        w[i - k0] += wp;
-                        if j < k1 {
-                            w[j - k0] += wp;
-                        }
-                    }
-                    if E {
-                        totals.normal += lanes.e_normal[l];
-                        totals.tangential += lanes.e_tangential[l];
-                        totals.damping_power += lanes.damping_power[l];
-                        totals.slid += lanes.slid[l];
-                    }
-                }
-                p += len;
-            }
-            totals
-        };
-        let partial: Vec<PairEnergyTotals> = if phase.parallel {
-            tasks.into_par_iter().map(run).collect()
-        } else {
-            tasks.into_iter().map(run).collect()
+        let pairs = Pairs {
+            i: &list.i,
+            j: &list.j,
+            image: &list.image,
+            row_start: &list.row_start,
+            n,
         };
         let mut totals = PairEnergyTotals::default();
-        for p in &partial {
-            totals.normal += p.normal;
-            totals.tangential += p.tangential;
-            totals.damping_power += p.damping_power;
-            totals.slid += p.slid;
+        for colour in 0..2 {
+            let k0 = (colour * BLOCK).min(n);
+            let p0 = list.row_start[k0] as usize;
+            let w = (!self.virial.is_empty()).then(|| &mut self.virial[k0..]);
+            let span = Span {
+                units: 0..(nb + 1 - colour) / 2,
+                colour,
+                hist: &mut list.hist[p0..],
+                out: &mut self.out[p0..],
+                f: &mut self.force[k0..],
+                t: &mut self.torque[k0..],
+                w,
+            };
+            let part = span.run::<T, E>(ctx, &pairs, phase.parallel);
+            totals = totals.then(&part);
         }
-        let _g = tracing::trace_span!("gather").entered();
-        self.gather_parked(ctx, list, phase);
+        if !self.parked_pair.is_empty() {
+            let _g = tracing::trace_span!("gather").entered();
+            self.gather_parked(ctx, list, phase);
+        }
         totals
     }
 
-    /// Phase 2: each particle adds the outputs parked by pairs of earlier blocks, in pair order.
+    /// Afterwards: each particle adds the outputs parked by pairs of blocks two or more before its own,
+    /// in pair order (none in a packing stored in space order, whose pairs reach at most one block on).
     fn gather_parked(&mut self, ctx: &Ctx, list: &NeighborList, phase: ForcePhase) {
         let (out, start, parked) = (&self.out, &self.parked_start, &self.parked_pair);
-        let run = |c: usize, f: &mut [Vec3], t: &mut [Vec3], w: Option<&mut [Matrix3<f64>]>| {
-            let mut w = w;
-            for k in 0..f.len() {
-                let kk = c * BLOCK + k;
-                for &p in &parked[start[kk] as usize..start[kk + 1] as usize] {
-                    let p = p as usize;
-                    let o = &out[p];
-                    f[k] -= o.f;
-                    t[k] += o.tj;
-                    if let Some(w) = w.as_deref_mut() {
-                        let d = ctx.separation(list.i[p] as usize, kk, list.image[p]);
-                        w[k] += -0.5 * d * o.f.transpose();
-                    }
+        let add = |kk: usize, f: &mut Vec3, t: &mut Vec3, mut w: Option<&mut Matrix3<f64>>| {
+            for &p in &parked[start[kk] as usize..start[kk + 1] as usize] {
+                let p = p as usize;
+                let o = &out[p];
+                *f -= o.f;
+                *t += o.tj;
+                if let Some(w) = w.as_deref_mut() {
+                    let d = ctx.separation(list.i[p] as usize, kk, list.image[p]);
+                    *w += -0.5 * d * o.f.transpose();
                 }
             }
         };
-        let virial: Vec<Option<&mut [Matrix3<f64>]>> = if phase.virial {
-            self.virial.chunks_mut(BLOCK).map(Some).collect()
-        } else {
-            (0..self.force.len().div_ceil(BLOCK))
-                .map(|_| None)
-                .collect()
-        };
-        let tasks: Vec<_> = self
-            .force
-            .chunks_mut(BLOCK)
-            .zip(self.torque.chunks_mut(BLOCK))
-            .zip(virial)
-            .enumerate()
-            .collect();
-        if phase.parallel {
-            tasks
-                .into_par_iter()
-                .for_each(|(c, ((f, t), w))| run(c, f, t, w));
-        } else {
-            tasks
-                .into_iter()
-                .for_each(|(c, ((f, t), w))| run(c, f, t, w));
+        let (force, torque, virial) = (&mut self.force, &mut self.torque, &mut self.virial);
+        match (phase.virial, phase.parallel) {
+            (true, true) => force
+                .par_iter_mut()
+                .zip(torque.par_iter_mut())
+                .zip(virial.par_iter_mut())
+                .enumerate()
+                .for_each(|(k, ((f, t), w))| add(k, f, t, Some(w))),
+            (false, true) => force
+                .par_iter_mut()
+                .zip(torque.par_iter_mut())
+                .enumerate()
+                .for_each(|(k, (f, t))| add(k, f, t, None)),
+            (true, false) => {
+                let it = force.iter_mut().zip(torque.iter_mut());
+                it.zip(virial.iter_mut())
+                    .enumerate()
+                    .for_each(|(k, ((f, t), w))| add(k, f, t, Some(w)))
+            }
+            (false, false) => {
+                let it = force.iter_mut().zip(torque.iter_mut());
+                it.enumerate().for_each(|(k, (f, t))| add(k, f, t, None))
+            }
         }
     }
 }
