@@ -6,7 +6,9 @@
 //! (paper 000, Table 4 material at nu = 0.15, d = 0.6 d_c) at 1 and 2 threads; LAMMPS runs
 //! `pair_style gran/hooke/history` with `fix nve/sphere` on 1 process, from the identical data file,
 //! with the same particle count, time step and number of steps. The figures reported are loop times
-//! (set-up excluded on both sides).
+//! (set-up excluded on both sides). Beside the multi-thread figure the bench times as many independent
+//! 1-thread copies side by side: what the hardware lets N threads reach at best (they share the memory
+//! path and caches), so a speed-up can be read against the machine as well as against the ideal N.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -34,6 +36,9 @@ pub struct BenchArgs {
     /// Skip the LAMMPS comparison.
     #[arg(long)]
     no_lammps: bool,
+    /// Skip the machine's ceiling (independent 1-thread copies run side by side).
+    #[arg(long)]
+    no_ceiling: bool,
     /// Append the results to this CSV file.
     #[arg(long)]
     csv: Option<PathBuf>,
@@ -81,6 +86,29 @@ fn time_cgdem(threads: usize, steps: u64, cells: usize) -> Result<(f64, usize, u
     sim.run(steps)?;
     let secs = t.elapsed().as_secs_f64();
     Ok((secs, n, pairs, sim.dt()))
+}
+
+/// The speed-up the machine itself allows: `copies` independent 1-thread runs side by side share
+/// nothing but the hardware (memory bandwidth, caches, clocks), so their aggregate rate over one run's
+/// rate bounds what `copies` threads on one system can reach.
+fn time_copies(copies: usize, steps: u64, cells: usize) -> Result<(f64, usize)> {
+    let runs: Vec<Result<(f64, usize, usize, f64)>> = std::thread::scope(|s| {
+        let handles: Vec<_> = (0..copies)
+            .map(|_| s.spawn(|| time_cgdem(1, steps, cells)))
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().unwrap_or_else(|_| bail!("a bench copy panicked")))
+            .collect()
+    });
+    let mut slowest = 0.0f64;
+    let mut n = 0;
+    for r in runs {
+        let (secs, np, _, _) = r?;
+        slowest = slowest.max(secs);
+        n = np;
+    }
+    Ok((slowest, n))
 }
 
 fn write_lammps_inputs(dir: &Path, cells: usize, steps: u64, dt: f64) -> Result<PathBuf> {
@@ -188,6 +216,16 @@ pub fn run(args: BenchArgs) -> Result<()> {
             .unwrap_or_default();
         println!("cgdem   {t} thread(s): {n} spheres x {} steps in {secs:.3} s = {:.3e} particle-steps/s{speedup}", args.steps, rate);
         rows.push((format!("cgdem-{t}t"), n, secs, rate));
+    }
+    let copies = args.threads.iter().copied().max().unwrap_or(1);
+    if copies > 1 && !args.no_ceiling {
+        let (secs, n) = time_copies(copies, args.steps, args.cells)?;
+        let rate = (copies * n) as f64 * args.steps as f64 / secs;
+        let ceiling = one_thread
+            .map(|r1| format!("  machine ceiling {:.2}x", rate / r1))
+            .unwrap_or_default();
+        println!("cgdem   {copies} independent 1-thread copies side by side: {:.3e} particle-steps/s in all{ceiling}", rate);
+        rows.push((format!("cgdem-{copies}x1t"), copies * n, secs, rate));
     }
     if !args.no_lammps {
         let dir = std::env::temp_dir().join(format!("cgdem-bench-{}", std::process::id()));
