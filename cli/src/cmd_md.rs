@@ -228,7 +228,7 @@ fn silica(config: Option<&Path>, out: &Path, l: &Launch) -> Result<()> {
     };
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     std::fs::write(out.join("silica.json"), serde_json::to_string_pretty(&rec)?)?;
-    print_summary(res);
+    print_summary(res, &cfg);
     match card(res, &rec, &cfg) {
         Some(card) => {
             card.write(&out.join("card.toml"))?;
@@ -240,18 +240,23 @@ fn silica(config: Option<&Path>, out: &Path, l: &Launch) -> Result<()> {
     Ok(())
 }
 
-fn print_summary(r: &SilicaResult) {
+fn print_summary(r: &SilicaResult, cfg: &SilicaConfig) {
     println!(
-        "atoms {}  density {:.0} kg/m3 (0 K: {:.0})",
-        r.n_atoms, r.density, r.density_0k
+        "atoms {}  density {:.0} kg/m3 at {} K (0 K: {:.0})",
+        r.n_atoms, r.density, cfg.quench_end_temperature, r.density_0k
     );
     println!(
-        "C11 {:.1} GPa  C12 {:.1} GPa  C44 {:.1} GPa  ->  E {:.1} GPa  nu {:.3}",
+        "C11 {:.1} GPa  C12 {:.1} GPa  C44 {:.1} GPa  ->  E {:.1} GPa  nu {:.3}  ({})",
         r.c11 / 1e9,
         r.c12 / 1e9,
         r.c44 / 1e9,
         r.young_modulus / 1e9,
-        r.poisson_ratio
+        r.poisson_ratio,
+        if cfg.elastic_temperature > 0.0 {
+            format!("thermal average at {} K", cfg.elastic_temperature)
+        } else {
+            "0 K, relaxed ions".to_owned()
+        }
     );
     for (name, s) in [("tension", &r.tension), ("shear", &r.shear)] {
         if let Some(s) = s {

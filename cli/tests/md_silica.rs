@@ -4,10 +4,11 @@
 
 use std::process::Command;
 
+// Default elastic constants (thermal average at 300 K, +-0.01 strain) with a short stress average.
 const TINY: &str = "formula_units = 64
 melt_ps = 2.0
-quench_rate = 2000.0
 anneal_ps = 1.0
+elastic_md_ps = 0.5
 surface_anneal_ps = 0.5
 ";
 
@@ -117,6 +118,28 @@ fn silica_card_from_worker_has_agreed_keys_plausible_values_and_is_cached() {
         .unwrap()
         .iter()
         .any(|n| n.as_str().unwrap().contains("restitution")));
+    // The default card is at one temperature: E, nu thermally averaged at 300 K like the density
+    // and strengths, after the default fast quench.
+    let notes: Vec<&str> = p["notes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| n.as_str().unwrap())
+        .collect();
+    for want in [
+        "quench 2000 K/ps to 300 K",
+        "at 300 K (stress averaged",
+        "peak stress at 300 K",
+    ] {
+        assert!(
+            notes.iter().any(|n| n.contains(want)),
+            "no note with `{want}` in {notes:#?}"
+        );
+    }
+    assert!(
+        stdout.contains("thermal average at 300 K"),
+        "summary does not say where E was measured:\n{stdout}"
+    );
 
     let again = run();
     assert!(again.status.success());
