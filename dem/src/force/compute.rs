@@ -1,10 +1,10 @@
-//! The force phase. Particles are cut into fixed blocks; each block walks its pairs in order, evaluates
-//! them in batches of `LANES` (see [`super::cohesive::Batch`]), and adds every pair that stays inside
-//! the block straight into both particles' sums, parking only the pairs that reach into a later block,
-//! which are added afterwards per particle in pair order. Blocks are the same for
-//! any thread count and every sum happens in the same order, so one thread and many give bit-identical
-//! results, while almost all pairs avoid the per-pair buffer. Energies are summed block by block in
-//! block order.
+//! The force phase. Particles are cut into fixed blocks; each block walks its pairs in order and
+//! evaluates them in batches of `LANES` (see [`super::cohesive::Batch`]). Blocks run in two colours
+//! (even, then odd): while its colour runs, block `b` owns the sums of blocks `b` and `b + 1`, so a
+//! pair whose second particle lies in either adds straight into both particles' sums; only pairs
+//! reaching two blocks or more ahead park their output, added afterwards per particle in pair order.
+//! Blocks and colours are the same for any thread count and every sum happens in the same order, so
+//! one thread and many give bit-identical results. Energies combine block by block along a fixed tree.
 
 use nalgebra::Matrix3;
 use rayon::prelude::*;
