@@ -9,8 +9,6 @@
 //! Global viscous damping (paper 000 eq 21, "a fraction of c_c"): a force -c v on every free particle,
 //! and a torque -c (I/m) omega, so that spin relaxes at the same rate as translation.
 
-use rayon::prelude::*;
-
 use crate::state::Particles;
 use crate::Vec3;
 
@@ -30,13 +28,7 @@ pub(crate) struct StepSums {
 }
 
 impl StepSums {
-    const ZERO: StepSums = StepSums {
-        kinetic: 0.0,
-        damping_power: 0.0,
-        finite: true,
-    };
-
-    /// Adds the sums of the next chunk (always in chunk order, so the totals are deterministic).
+    /// Adds the sums of the next range (always along the same tree, so the totals are deterministic).
     fn then(self, b: &StepSums) -> StepSums {
         StepSums {
             kinetic: self.kinetic + b.kinetic,
@@ -92,29 +84,42 @@ pub(crate) fn advance_free(
             finite: screen.is_finite(),
         }
     };
-    if parallel {
-        // Per-chunk partial sums collected in order, then added sequentially: deterministic.
-        let partial: Vec<StepSums> = pos
-            .par_chunks_mut(CHUNK)
-            .zip(vel.par_chunks_mut(CHUNK))
-            .zip(omega.par_chunks_mut(CHUNK))
-            .enumerate()
-            .map(|(c, ((x, v), w))| run(c * CHUNK, x, v, w))
-            .collect();
-        partial.iter().fold(StepSums::ZERO, |a, b| a.then(b))
-    } else {
-        // Same chunking as the parallel path, so the floating-point sums are identical.
-        let mut acc = StepSums::ZERO;
-        for (c, ((x, v), w)) in pos
-            .chunks_mut(CHUNK)
-            .zip(vel.chunks_mut(CHUNK))
-            .zip(omega.chunks_mut(CHUNK))
-            .enumerate()
-        {
-            acc = acc.then(&run(c * CHUNK, x, v, w));
-        }
-        acc
+    tree(0, pos, vel, omega, &run, parallel)
+}
+
+/// Runs `run` on chunks of `CHUNK` particles, halving the range (rayon::join when `parallel`) and
+/// combining the sums along the same fixed tree on any thread count: deterministic totals, and no
+/// per-step allocation.
+fn tree<R>(
+    start: usize,
+    x: &mut [Vec3],
+    v: &mut [Vec3],
+    w: &mut [Vec3],
+    run: &R,
+    parallel: bool,
+) -> StepSums
+where
+    R: Fn(usize, &mut [Vec3], &mut [Vec3], &mut [Vec3]) -> StepSums + Sync,
+{
+    if x.len() <= CHUNK {
+        return run(start, x, v, w);
     }
+    let mid = x.len().div_ceil(CHUNK) / 2 * CHUNK;
+    let (x0, x1) = x.split_at_mut(mid);
+    let (v0, v1) = v.split_at_mut(mid);
+    let (w0, w1) = w.split_at_mut(mid);
+    let (a, b) = if parallel {
+        rayon::join(
+            || tree(start, x0, v0, w0, run, true),
+            || tree(start + mid, x1, v1, w1, run, true),
+        )
+    } else {
+        (
+            tree(start, x0, v0, w0, run, false),
+            tree(start + mid, x1, v1, w1, run, false),
+        )
+    };
+    a.then(&b)
 }
 
 #[cfg(test)]
