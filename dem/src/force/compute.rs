@@ -444,28 +444,43 @@ impl ForceBuffers {
                 }
             }
         };
+        // Per block, so that blocks without parked pairs (all of them in space order, but for the
+        // periodic images) are skipped at the cost of one comparison.
+        let n = self.force.len();
+        let block =
+            |c: usize, f: &mut [Vec3], t: &mut [Vec3], mut w: Option<&mut [Matrix3<f64>]>| {
+                let k0 = c * BLOCK;
+                if start[k0] == start[(k0 + BLOCK).min(n)] {
+                    return;
+                }
+                for k in 0..f.len() {
+                    add(
+                        k0 + k,
+                        &mut f[k],
+                        &mut t[k],
+                        w.as_deref_mut().map(|w| &mut w[k]),
+                    );
+                }
+            };
         let (force, torque, virial) = (&mut self.force, &mut self.torque, &mut self.virial);
+        let ft = force
+            .par_chunks_mut(BLOCK)
+            .zip(torque.par_chunks_mut(BLOCK));
         match (phase.virial, phase.parallel) {
-            (true, true) => force
-                .par_iter_mut()
-                .zip(torque.par_iter_mut())
-                .zip(virial.par_iter_mut())
+            (true, true) => ft
+                .zip(virial.par_chunks_mut(BLOCK))
                 .enumerate()
-                .for_each(|(k, ((f, t), w))| add(k, f, t, Some(w))),
-            (false, true) => force
-                .par_iter_mut()
-                .zip(torque.par_iter_mut())
-                .enumerate()
-                .for_each(|(k, (f, t))| add(k, f, t, None)),
+                .for_each(|(c, ((f, t), w))| block(c, f, t, Some(w))),
+            (false, true) => ft.enumerate().for_each(|(c, (f, t))| block(c, f, t, None)),
             (true, false) => {
-                let it = force.iter_mut().zip(torque.iter_mut());
-                it.zip(virial.iter_mut())
+                let it = force.chunks_mut(BLOCK).zip(torque.chunks_mut(BLOCK));
+                it.zip(virial.chunks_mut(BLOCK))
                     .enumerate()
-                    .for_each(|(k, ((f, t), w))| add(k, f, t, Some(w)))
+                    .for_each(|(c, ((f, t), w))| block(c, f, t, Some(w)))
             }
             (false, false) => {
-                let it = force.iter_mut().zip(torque.iter_mut());
-                it.enumerate().for_each(|(k, (f, t))| add(k, f, t, None))
+                let it = force.chunks_mut(BLOCK).zip(torque.chunks_mut(BLOCK));
+                it.enumerate().for_each(|(c, (f, t))| block(c, f, t, None))
             }
         }
     }
