@@ -4,6 +4,9 @@
 use dem::sample::hcp::hcp_lattice;
 use dem::state::{sphere_inertia, sphere_mass};
 use dem::{Material, PairModel, Parallelism, RunConfig, Simulation};
+use rand::seq::SliceRandom;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let arg = |k: usize, d: usize| {
@@ -33,20 +36,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         p.vel[i].x = 0.01 * ((i * 7919 % 200) as f64 / 100.0 - 1.0);
     }
     if shuffle {
-        let n = p.len();
-        let mut order: Vec<usize> = (0..n).collect();
-        let mut state = 0x9e3779b97f4a7c15u64;
-        for k in (1..n).rev() {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            order.swap(k, (state % (k as u64 + 1)) as usize);
-        }
-        let src = p.clone();
-        for (dst, &from) in order.iter().enumerate() {
-            p.pos[dst] = src.pos[from];
-            p.vel[dst] = src.vel[from];
-        }
+        let mut order: Vec<usize> = (0..p.len()).collect();
+        order.shuffle(&mut ChaCha8Rng::seed_from_u64(7));
+        p.permute(&order);
     }
     let par = if threads > 1 {
         Parallelism::Threads(threads)

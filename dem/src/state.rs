@@ -93,17 +93,24 @@ impl Particles {
         };
         let mut order: Vec<usize> = (0..self.len()).collect();
         order.sort_by_key(|&i| key(&self.pos[i]));
-        fn permute<T: Clone>(v: &mut Vec<T>, order: &[usize]) {
+        self.permute(&order);
+        order
+    }
+
+    /// Stores the particles in another order: new index `k` holds the particle that was at `order[k]`
+    /// (`order` must be a permutation of `0..len()`).
+    pub fn permute(&mut self, order: &[usize]) {
+        assert_eq!(order.len(), self.len(), "a permutation of every particle");
+        fn apply<T: Clone>(v: &mut Vec<T>, order: &[usize]) {
             *v = order.iter().map(|&i| v[i].clone()).collect();
         }
-        permute(&mut self.pos, &order);
-        permute(&mut self.vel, &order);
-        permute(&mut self.omega, &order);
-        permute(&mut self.radius, &order);
-        permute(&mut self.mass, &order);
-        permute(&mut self.inertia, &order);
-        permute(&mut self.group, &order);
-        order
+        apply(&mut self.pos, order);
+        apply(&mut self.vel, order);
+        apply(&mut self.omega, order);
+        apply(&mut self.radius, order);
+        apply(&mut self.mass, order);
+        apply(&mut self.inertia, order);
+        apply(&mut self.group, order);
     }
 
     /// Keeps only the particles for which `keep(i)` is true, preserving order.

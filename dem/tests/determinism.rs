@@ -5,6 +5,9 @@ mod common;
 use common::*;
 use dem::sample::hcp::hcp_lattice;
 use dem::{Group, PairModel, Parallelism, RigidMotion, Simulation, Vec3};
+use rand::seq::SliceRandom;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
 
 fn scene(par: Parallelism) -> Simulation {
     // A sheared slab with walls, sliding and breaking bonds: every code path of the step. 4 800 particles:
@@ -88,30 +91,18 @@ fn checkpoint_and_resume_is_bit_identical() {
     assert_eq!(fingerprint(&straight), fingerprint(&resumed));
 }
 
-/// A periodic HCP packing in contact, stored in lattice order or shuffled; the particle stored at
-/// `order[k]` in the shuffled copy is lattice particle `k`.
+/// A periodic HCP packing in contact, stored in lattice order or shuffled; the shuffled copy stores
+/// lattice particle `order[k]` at index `k`.
 fn packing(shuffled: bool, par: Parallelism) -> (Simulation, Vec<usize>) {
     let (mut p, bx) = hcp_lattice(24, 24, 16, 90.0, 1.0, [true; 3]).unwrap();
     for r in p.radius.iter_mut() {
         *r *= 1.002;
     }
     thermalise(&mut p, 0.5, 0.01, 7);
-    let n = p.len();
-    let mut order: Vec<usize> = (0..n).collect();
+    let mut order: Vec<usize> = (0..p.len()).collect();
     if shuffled {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        for k in (1..n).rev() {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            order.swap(k, (state % (k as u64 + 1)) as usize);
-        }
-        let src = p.clone();
-        for (k, &slot) in order.iter().enumerate() {
-            p.pos[slot] = src.pos[k];
-            p.vel[slot] = src.vel[k];
-            p.omega[slot] = src.omega[k];
-        }
+        order.shuffle(&mut ChaCha8Rng::seed_from_u64(7));
+        p.permute(&order);
     }
     let model = PairModel::cohesive(dem::Material::table4(0.15));
     let sim = Simulation::new(p, bx, model, vec![], config(0.1), par).unwrap();
@@ -135,9 +126,9 @@ fn storage_order_changes_no_force_and_threads_agree() {
     let scale = sorted.forces().iter().map(|f| f.norm()).fold(0.0, f64::max);
     assert!(scale > 0.0);
     let mut worst = 0.0f64;
-    for (k, &slot) in order.iter().enumerate() {
-        worst = worst.max((sorted.forces()[k] - shuffled.forces()[slot]).norm());
-        worst = worst.max((sorted.torques()[k] - shuffled.torques()[slot]).norm() / 90.0);
+    for (k, &at) in order.iter().enumerate() {
+        worst = worst.max((sorted.forces()[at] - shuffled.forces()[k]).norm());
+        worst = worst.max((sorted.torques()[at] - shuffled.torques()[k]).norm() / 90.0);
     }
     assert!(
         worst <= 1e-9 * scale,
