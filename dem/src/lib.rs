@@ -17,6 +17,7 @@ pub mod domain;
 pub mod energy;
 pub mod error;
 pub mod force;
+pub mod history;
 pub mod integrate;
 pub mod interrupt;
 pub mod io;

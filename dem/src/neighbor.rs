@@ -21,6 +21,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::domain::SimBox;
 use crate::error::{DemError, Result};
+use crate::history::PairHistory;
 use crate::Vec3;
 
 /// Periodic image of a pair, in box lengths along each axis.
@@ -38,7 +39,7 @@ pub struct NeighborList {
     /// Image of `j` seen from `i`.
     pub image: Vec<Image>,
     /// Tangential sliding displacement of each pair (zero when out of interaction range).
-    pub hist: Vec<Vec3>,
+    pub hist: PairHistory,
     /// `row_start[i]..row_start[i+1]` are the pairs whose first particle is `i`.
     pub row_start: Vec<u32>,
     /// `rev_start[j]..rev_start[j+1]` index `rev_pair`, the pairs whose second particle is `j`.
@@ -219,7 +220,7 @@ impl NeighborList {
             row_start[k + 1] += row_start[k];
         }
         // Carry the history over: same (i, j, image) in the old row of i.
-        let mut new_hist = vec![Vec3::zeros(); total];
+        let mut new_hist = PairHistory::zeros(total);
         if old_valid {
             for i in 0..n {
                 let (ns, ne) = (row_start[i] as usize, row_start[i + 1] as usize);
@@ -228,7 +229,7 @@ impl NeighborList {
                     if let Some(q) =
                         (os..oe).find(|&q| self.j[q] == new_j[p] && self.image[q] == new_img[p])
                     {
-                        new_hist[p] = self.hist[q];
+                        new_hist.set(p, self.hist.get(q));
                     }
                 }
             }

@@ -56,7 +56,7 @@ fn fingerprint(s: &Simulation) -> Vec<u64> {
         s.neighbors()
             .hist
             .iter()
-            .flat_map(|h| h.iter().map(|x| x.to_bits())),
+            .flat_map(|h| [h.x, h.y, h.z].map(f64::to_bits)),
     );
     v.push(s.energy().balance().to_bits());
     v

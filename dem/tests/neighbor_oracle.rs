@@ -165,7 +165,8 @@ fn history_follows_pairs_across_rebuilds_and_wraps() {
         pos[list.j[p] as usize] + bx.shift(list.image[p]) - pos[list.i[p] as usize]
     };
     for p in 0..list.len() {
-        list.hist[p] = tag(&pos, &list, p);
+        let h = tag(&pos, &list, p);
+        list.hist.set(p, h);
     }
     // Translate everything by most of a box (all particles wrap), then rebuild.
     let t = Vec3::new(5.3, -4.1, 2.2);
@@ -176,12 +177,11 @@ fn history_follows_pairs_across_rebuilds_and_wraps() {
     let mut carried = 0;
     for p in 0..list.len() {
         let sep = tag(&pos, &list, p);
-        if list.hist[p] != Vec3::zeros() {
+        let h = list.hist.get(p);
+        if h != Vec3::zeros() {
             assert!(
-                (list.hist[p] - sep).norm() < 1e-9,
-                "pair {p}: history {:?} belongs to {:?}",
-                list.hist[p],
-                sep
+                (h - sep).norm() < 1e-9,
+                "pair {p}: history {h:?} belongs to {sep:?}"
             );
             carried += 1;
         }

@@ -12,6 +12,7 @@ use rayon::prelude::*;
 use super::cohesive::Batch;
 use super::pair_consts::{PairConst, PairConstArrays, LANES};
 use crate::domain::SimBox;
+use crate::history::HistoryMut;
 use crate::material::PairCoefficients;
 use crate::neighbor::NeighborList;
 use crate::state::Particles;
@@ -110,7 +111,7 @@ impl Pairs<'_> {
 struct Span<'a> {
     units: std::ops::Range<usize>,
     colour: usize,
-    hist: &'a mut [Vec3],
+    hist: HistoryMut<'a>,
     out: &'a mut [Parked],
     f: &'a mut [Vec3],
     t: &'a mut [Vec3],
@@ -195,7 +196,7 @@ impl<'a> Span<'a> {
     fn block<const T: bool, const E: bool>(self, ctx: &Ctx, pairs: &Pairs) -> PairEnergyTotals {
         let Span {
             units,
-            hist,
+            mut hist,
             out,
             f,
             t,
@@ -226,22 +227,30 @@ impl<'a> Span<'a> {
                 let (ki, kj) = (&ctx.kin[i], &ctx.kin[j]);
                 let d = ctx.separation(i, j, limg[q]);
                 let dv = ki.v - kj.v;
-                let h = hist[q - p0];
                 for a in 0..3 {
                     lanes.d[a][l] = d[a];
                     lanes.dv[a][l] = dv[a];
                     lanes.wi[a][l] = ki.w[a];
                     lanes.wj[a][l] = kj.w[a];
-                    lanes.h[a][l] = h[a];
                 }
             }
+            {
+                let [hx, hy, hz] = &mut lanes.h;
+                hist.load(
+                    p - p0,
+                    &mut [&mut hx[..len], &mut hy[..len], &mut hz[..len]],
+                );
+            }
             lanes.evaluate::<T, E>(&ctx.consts.window(p), ctx.dt);
+            {
+                let [hx, hy, hz] = &lanes.h;
+                hist.store(p - p0, [&hx[..len], &hy[..len], &hz[..len]]);
+            }
             for l in 0..len {
                 let q = p + l;
                 let (i, j) = (li[q] as usize, lj[q] as usize);
                 let v3 = |a: &[[f64; LANES]; 3]| Vec3::new(a[0][l], a[1][l], a[2][l]);
                 let (fp, tip, tjp) = (v3(&lanes.f), v3(&lanes.ti), v3(&lanes.tj));
-                hist[q - p0] = v3(&lanes.h);
                 f[i - k0] += fp;
                 t[i - k0] += tip;
                 if j < reach {
@@ -412,7 +421,7 @@ impl ForceBuffers {
             let span = Span {
                 units: 0..(nb + 1 - colour) / 2,
                 colour,
-                hist: &mut list.hist[p0..],
+                hist: list.hist.tail_mut(p0),
                 out: &mut self.out[p0..],
                 f: &mut self.force[k0..],
                 t: &mut self.torque[k0..],

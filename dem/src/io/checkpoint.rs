@@ -17,8 +17,8 @@ use crate::sim::{Parallelism, RunConfig, Simulation};
 use crate::state::Particles;
 use crate::walls::Group;
 
-/// Format version, bumped when the layout changes.
-const VERSION: u32 = 1;
+/// Format version, bumped when the layout changes (2: the pair history stored per component).
+const VERSION: u32 = 2;
 
 /// Serialisable state of a [`Simulation`].
 #[derive(Debug, Clone, Serialize, Deserialize)]
