@@ -38,8 +38,9 @@ pub const BAR_TO_PA: f64 = 1e5;
 #[serde(default, deny_unknown_fields)]
 pub struct SilicaConfig {
     /// SiO2 formula units (3 atoms each); 216 -> 648 atoms, the size checked to melt-quench in < 2 min.
-    /// One 648-atom realization scatters by about +-4 % in density and +-10 % in E (a different
-    /// seed or rank count draws another glass): use >= 512 for a card to quote.
+    /// One 648-atom realization at the defaults scatters by about +-1 % in density, +-3 % in E,
+    /// +-9 % in sigma_N and +-17 % in gamma (sd of 5 glasses; a different seed or rank count draws
+    /// another glass, docs/md-bridge.md): use a bigger glass for a card to quote.
     pub formula_units: usize,
     /// g/cm^3 at the random start: real silica glass, so the melt starts near the right volume.
     pub initial_density: f64,
@@ -56,22 +57,24 @@ pub struct SilicaConfig {
     /// The melt densifies all the way down on cooling at zero pressure, so a slower quench gives a
     /// denser, stiffer glass those figures do not describe (same seeds, 0 K C_ij: 2000 K/ps -> 2476
     /// kg/m^3, E 110 GPa; 500 -> 2505, 125). Melt + quench + anneal: 10 350 steps (500: 17 400).
+    /// Its price: gamma and sigma_N drop too (5 glasses: 1.17 J/m^2, 12.7 GPa; 500 K/ps: 1.64, 14.7).
     pub quench_rate: f64,
     /// ps of NPT anneal after the quench; the density is averaged over its second half.
     pub anneal_ps: f64,
     /// Strain of each +- elastic deformation; 0.01 lifts the stress change above the thermal stress
-    /// noise at 300 K and stays linear (tension peaks near 0.2; central differences cancel the
+    /// noise at 300 K and stays linear (tension peaks past 0.2; central differences cancel the
     /// quadratic term). With `elastic_temperature = 0` there is no noise: 0.005 is enough.
     pub elastic_strain: f64,
-    /// K at which C_ij are measured; 300 = the card's temperature, where its density, strengths and
-    /// Table 5's glass are, so the card is at one temperature: isothermal constants, stress
-    /// averaged by NVT MD under each +- strain ([`measure::elastic_thermal`]). 0 = relaxed-ion static
-    /// constants of the 0 K stress-free glass by minimisation ([`measure::elastic`]): noise-free and
-    /// ~5x cheaper, but ~10 % stiffer in E (anharmonic softening at 300 K; docs/md-bridge.md).
+    /// K at which C_ij are measured; 300 = the card's temperature, where its density, strengths
+    /// and Table 5's glass are, so the card is at one temperature: isothermal constants, stress
+    /// averaged by NVT MD under each +- strain ([`measure::elastic_thermal`]). 0 = relaxed-ion
+    /// static constants of the 0 K stress-free glass by minimisation ([`measure::elastic`]):
+    /// noise-free and ~3x cheaper (77 s against 230 s on one core), but ~10 % stiffer in E
+    /// (anharmonic softening at 300 K; docs/md-bridge.md).
     pub elastic_temperature: f64,
     /// ps over which the stress is averaged per deformation when `elastic_temperature` > 0; 2 ps
     /// gives each C_ij of a 648-atom glass a statistical error of ~3.5 GPa at +-0.01 strain (from
-    /// C_ij - C_ji of the default card), ~2 % on E after the cubic average.
+    /// C_ij - C_ji of the default card), ~3 % on E after the cubic average.
     pub elastic_md_ps: f64,
     /// Force tolerance (eV/A) of the 0 K minimisations; tight enough for stresses to ~0.1 GPa.
     pub min_ftol: f64,
