@@ -212,6 +212,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             one_thread = Some(rate);
         }
         let speedup = one_thread
+            .filter(|_| t > 1)
             .map(|r1| format!("  speed-up {:.2}x", rate / r1))
             .unwrap_or_default();
         println!("cgdem   {t} thread(s): {n} spheres x {} steps in {secs:.3} s = {:.3e} particle-steps/s{speedup}", args.steps, rate);
