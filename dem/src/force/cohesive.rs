@@ -122,14 +122,28 @@ pub(crate) struct Batch {
 impl Batch {
     /// Evaluates every lane (constants `c`) and advances its history; lanes out of range get zero
     /// force and history. `TANGENTIAL` compiles the tangential part in or out, `ENERGY` the energy
-    /// terms. Lanes beyond the last pair hold stale inputs whose outputs the caller ignores.
-    #[inline(always)]
+    /// terms. Lanes beyond the last pair hold stale inputs whose outputs the caller ignores. (The
+    /// force loop calls the two halves itself, to load a shared window once.)
+    #[cfg(test)]
     pub fn evaluate<const TANGENTIAL: bool, const ENERGY: bool>(
         &mut self,
         c: &ConstWindow,
         dt: f64,
     ) {
+        self.load_consts(c);
+        self.evaluate_loaded::<TANGENTIAL, ENERGY>(dt);
+    }
+
+    /// Takes the constants of the next lanes (kept until the next call: a system whose pairs all
+    /// share one window loads it once).
+    #[inline(always)]
+    pub fn load_consts(&mut self, c: &ConstWindow) {
         self.k.load(c);
+    }
+
+    /// [`Batch::evaluate`] with the constants already loaded.
+    #[inline(always)]
+    pub fn evaluate_loaded<const TANGENTIAL: bool, const ENERGY: bool>(&mut self, dt: f64) {
         for l in 0..LANES {
             self.lane::<TANGENTIAL, ENERGY>(l, dt);
         }

@@ -241,7 +241,10 @@ impl<'a> Span<'a> {
                     &mut [&mut hx[..len], &mut hy[..len], &mut hz[..len]],
                 );
             }
-            lanes.evaluate::<T, E>(&ctx.consts.window(p), ctx.dt);
+            if p == p0 || !ctx.consts.is_uniform() {
+                lanes.load_consts(&ctx.consts.window(p));
+            }
+            lanes.evaluate_loaded::<T, E>(ctx.dt);
             {
                 let [hx, hy, hz] = &lanes.h;
                 hist.store(p - p0, [&hx[..len], &hy[..len], &hz[..len]]);

@@ -155,6 +155,11 @@ impl PairConstArrays {
         ]
     }
 
+    /// Whether every pair shares one window.
+    pub fn is_uniform(&self) -> bool {
+        self.uniform
+    }
+
     /// Number of pairs held.
     pub fn len(&self) -> usize {
         self.len
