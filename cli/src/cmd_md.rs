@@ -331,7 +331,7 @@ fn card(r: &SilicaResult, rec: &JobRecord, cfg: &SilicaConfig) -> Option<Materia
                     cfg.strength_temperature, cfg.strain_rate
                 ),
                 format!(
-                    "surface energy: cleaved along z, annealed {} ps at {} K, minimised",
+                    "surface energy: cleaved along z, annealed {} ps at {} K, minimised; the bulk reference annealed and minimised alike",
                     cfg.surface_anneal_ps, cfg.surface_anneal_temperature
                 ),
             ],

@@ -21,7 +21,7 @@ use std::time::Instant;
 
 /// Version of the job protocols (scripts and measurement procedures). Part of the cache key: bump
 /// it whenever a change to the workflows would change results, so stale cache entries are not reused.
-pub const PROTOCOL_VERSION: u32 = 3;
+pub const PROTOCOL_VERSION: u32 = 4;
 
 /// What a worker can be asked to do.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

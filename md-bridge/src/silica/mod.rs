@@ -10,7 +10,7 @@
 //!    [`measure::elastic_thermal`]), or with relaxed ions at 0 K when it is 0 ([`measure::elastic`]);
 //!    tensile and shear strength by constant-rate MD at `strength_temperature`; surface energy by
 //!    cleaving the periodic cell open along z, relaxing (and optionally annealing) the two free
-//!    surfaces.
+//!    surfaces; an annealed slab is compared with a bulk given the same anneal.
 //!
 //! The potential makes a glass denser and stiffer than real silica; the card reports what the
 //! potential gives, and the CLI prints it beside Table 5 rather than in its place.
@@ -92,7 +92,8 @@ pub struct SilicaConfig {
     pub measure_surface: bool,
     /// Angstrom of vacuum opened along z; beyond the 10 A cut-off so the two surfaces do not interact.
     pub surface_vacuum: f64,
-    /// ps of NVT anneal of the free surfaces before the final minimisation (0 = minimise only).
+    /// ps of NVT anneal of the free surfaces before the final minimisation (0 = minimise only);
+    /// the bulk reference gets the same anneal.
     pub surface_anneal_ps: f64,
     /// K of that anneal; room temperature, the surfaces reconstruct without melting.
     pub surface_anneal_temperature: f64,
@@ -211,7 +212,7 @@ pub struct SilicaResult {
     pub shear: Option<Strength>,
     /// J/m^2 right after cleaving and minimising.
     pub surface_energy_unrelaxed: Option<f64>,
-    /// J/m^2 after the surface anneal and minimisation.
+    /// J/m^2 after the surface anneal and minimisation, against the bulk given the same anneal.
     pub surface_energy: Option<f64>,
     /// (stage, wall seconds).
     pub timings: Vec<(String, f64)>,
