@@ -87,22 +87,33 @@ impl<'a> HistoryMut<'a> {
         )
     }
 
-    /// The components of pairs `at..at + out[0].len()`, copied into `out`.
+    /// The components of pairs `at..at + len` copied into the first `len` lanes of `out` (a full
+    /// batch with fixed-size moves, a partial one with slice copies).
     #[inline(always)]
-    pub fn load(&self, at: usize, out: &mut [&mut [f64]; 3]) {
-        let n = out[0].len();
-        out[0].copy_from_slice(&self.x[at..at + n]);
-        out[1].copy_from_slice(&self.y[at..at + n]);
-        out[2].copy_from_slice(&self.z[at..at + n]);
+    pub fn load<const N: usize>(&self, at: usize, len: usize, out: &mut [[f64; N]; 3]) {
+        let src = [&*self.x, &*self.y, &*self.z];
+        for (o, s) in out.iter_mut().zip(src) {
+            if len == N {
+                *o = s[at..at + N].try_into().expect("N pairs");
+            } else {
+                o[..len].copy_from_slice(&s[at..at + len]);
+            }
+        }
     }
 
-    /// Stores `src` as the components of pairs `at..at + src[0].len()`.
+    /// Stores the first `len` lanes of `src` as the components of pairs `at..at + len`.
     #[inline(always)]
-    pub fn store(&mut self, at: usize, src: [&[f64]; 3]) {
-        let n = src[0].len();
-        self.x[at..at + n].copy_from_slice(src[0]);
-        self.y[at..at + n].copy_from_slice(src[1]);
-        self.z[at..at + n].copy_from_slice(src[2]);
+    pub fn store<const N: usize>(&mut self, at: usize, len: usize, src: &[[f64; N]; 3]) {
+        let dst = [&mut *self.x, &mut *self.y, &mut *self.z];
+        for (d, s) in dst.into_iter().zip(src) {
+            let d: &mut [f64] = &mut d[at..at + len];
+            if len == N {
+                let d: &mut [f64; N] = d.try_into().expect("N pairs");
+                *d = *s;
+            } else {
+                d.copy_from_slice(&s[..len]);
+            }
+        }
     }
 }
 
@@ -118,11 +129,14 @@ mod tests {
         }
         let (a, mut b) = h.tail_mut(2).split_at_mut(3);
         assert_eq!((a.x.len(), b.x.len()), (3, 5));
-        let (mut x, mut y, mut z) = ([0.0; 2], [0.0; 2], [0.0; 2]);
-        b.load(1, &mut [&mut x, &mut y, &mut z]);
-        assert_eq!((x, y, z), ([6.0, 7.0], [16.0, 17.0], [26.0, 27.0]));
-        b.store(0, [&[-1.0], &[-2.0], &[-3.0]]);
+        let mut lanes = [[0.0; 2]; 3];
+        b.load(1, 2, &mut lanes);
+        assert_eq!(lanes, [[6.0, 7.0], [16.0, 17.0], [26.0, 27.0]]);
+        b.load(4, 1, &mut lanes);
+        assert_eq!(lanes, [[9.0, 7.0], [19.0, 17.0], [29.0, 27.0]]);
+        b.store(0, 1, &[[-1.0, 0.5], [-2.0, 0.5], [-3.0, 0.5]]);
         assert_eq!(h.get(5), Vec3::new(-1.0, -2.0, -3.0));
+        assert_eq!(h.get(6), Vec3::new(6.0, 16.0, 26.0));
         assert_eq!(h.iter().count(), 10);
     }
 }

@@ -234,21 +234,12 @@ impl<'a> Span<'a> {
                     lanes.wj[a][l] = kj.w[a];
                 }
             }
-            {
-                let [hx, hy, hz] = &mut lanes.h;
-                hist.load(
-                    p - p0,
-                    &mut [&mut hx[..len], &mut hy[..len], &mut hz[..len]],
-                );
-            }
+            hist.load(p - p0, len, &mut lanes.h);
             if p == p0 || !ctx.consts.is_uniform() {
                 lanes.load_consts(&ctx.consts.window(p));
             }
             lanes.evaluate_loaded::<T, E>(ctx.dt);
-            {
-                let [hx, hy, hz] = &lanes.h;
-                hist.store(p - p0, [&hx[..len], &hy[..len], &hz[..len]]);
-            }
+            hist.store(p - p0, len, &lanes.h);
             for l in 0..len {
                 let q = p + l;
                 let (i, j) = (li[q] as usize, lj[q] as usize);
