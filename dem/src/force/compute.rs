@@ -206,7 +206,7 @@ impl<'a> Span<'a> {
         let b = 2 * units.start + self.colour;
         let (k0, k1) = (pairs.block_start(b), pairs.block_start(b + 1));
         // This span's slices end where the next unit starts: two blocks on (or the last particle).
-        let reach = k0 + f.len();
+        let owned = f.len();
         if self.colour == 0 {
             f.fill(Vec3::zeros());
             t.fill(Vec3::zeros());
@@ -218,12 +218,16 @@ impl<'a> Span<'a> {
         let (p0, p1) = (pairs.row_start[k0] as usize, pairs.row_start[k1] as usize);
         let mut totals = PairEnergyTotals::default();
         let mut lanes = Batch::default();
+        // The batch's particles relative to k0 (j - k0 >= f.len() for a parked pair), kept from the
+        // loads for the sums.
+        let mut local = [(0usize, 0usize); LANES];
         let mut p = p0;
         while p < p1 {
             let len = (p1 - p).min(LANES);
             for l in 0..len {
                 let q = p + l;
                 let (i, j) = (li[q] as usize, lj[q] as usize);
+                local[l] = (i - k0, j - k0);
                 let (ki, kj) = (&ctx.kin[i], &ctx.kin[j]);
                 let d = ctx.separation(i, j, limg[q]);
                 let dv = ki.v - kj.v;
@@ -240,24 +244,23 @@ impl<'a> Span<'a> {
             }
             lanes.evaluate_loaded::<T, E>(ctx.dt);
             hist.store(p - p0, len, &lanes.h);
-            for l in 0..len {
-                let q = p + l;
-                let (i, j) = (li[q] as usize, lj[q] as usize);
+            for (l, &(i, j)) in local[..len].iter().enumerate() {
                 let v3 = |a: &[[f64; LANES]; 3]| Vec3::new(a[0][l], a[1][l], a[2][l]);
                 let (fp, tip, tjp) = (v3(&lanes.f), v3(&lanes.ti), v3(&lanes.tj));
-                f[i - k0] += fp;
-                t[i - k0] += tip;
-                if j < reach {
-                    f[j - k0] -= fp;
-                    t[j - k0] += tjp;
+                let direct = j < owned;
+                f[i] += fp;
+                t[i] += tip;
+                if direct {
+                    f[j] -= fp;
+                    t[j] += tjp;
                 } else {
-                    out[q - p0] = Parked { f: fp, tj: tjp };
+                    out[p + l - p0] = Parked { f: fp, tj: tjp };
                 }
                 if let Some(w) = w.as_deref_mut() {
                     let wp = -0.5 * v3(&lanes.d) * fp.transpose();
-                    w[i - k0] += wp;
-                    if j < reach {
-                        w[j - k0] += wp;
+                    w[i] += wp;
+                    if direct {
+                        w[j] += wp;
                     }
                 }
                 if E {
