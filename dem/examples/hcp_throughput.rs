@@ -38,7 +38,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if shuffle {
         let mut order: Vec<usize> = (0..p.len()).collect();
         order.shuffle(&mut ChaCha8Rng::seed_from_u64(7));
-        p.permute(&order);
+        p.permute(&order)?;
     }
     let par = if threads > 1 {
         Parallelism::Threads(threads)

@@ -93,14 +93,30 @@ impl Particles {
         };
         let mut order: Vec<usize> = (0..self.len()).collect();
         order.sort_by_key(|&i| key(&self.pos[i]));
-        self.permute(&order);
+        self.reorder(&order);
         order
     }
 
-    /// Stores the particles in another order: new index `k` holds the particle that was at `order[k]`
-    /// (`order` must be a permutation of `0..len()`).
-    pub fn permute(&mut self, order: &[usize]) {
-        assert_eq!(order.len(), self.len(), "a permutation of every particle");
+    /// Stores the particles in another order: new index `k` holds the particle that was at `order[k]`.
+    /// `order` must be a permutation of `0..len()`; anything else is refused.
+    pub fn permute(&mut self, order: &[usize]) -> Result<()> {
+        let mut seen = vec![false; self.len()];
+        let valid = order.len() == self.len()
+            && order
+                .iter()
+                .all(|&i| i < seen.len() && !std::mem::replace(&mut seen[i], true));
+        if !valid {
+            return Err(DemError::InvalidConfig(format!(
+                "a reordering of {} particles must list each index once",
+                self.len()
+            )));
+        }
+        self.reorder(order);
+        Ok(())
+    }
+
+    /// [`Particles::permute`] for an order known to be a permutation.
+    fn reorder(&mut self, order: &[usize]) {
         fn apply<T: Clone>(v: &mut Vec<T>, order: &[usize]) {
             *v = order.iter().map(|&i| v[i].clone()).collect();
         }
@@ -210,6 +226,26 @@ mod tests {
             assert_eq!(p.radius[k], 0.1 + from as f64);
             assert_eq!(p.pos[k].x, xs[from].0);
         }
+    }
+
+    #[test]
+    fn permute_moves_whole_particles_and_refuses_non_permutations() {
+        let mut p = Particles::default();
+        for k in 0..3 {
+            p.push_sphere(Vec3::new(k as f64, 0.0, 0.0), 1.0 + k as f64, 1.0);
+        }
+        p.permute(&[2, 0, 1]).unwrap();
+        assert_eq!(p.pos[0].x, 2.0);
+        assert_eq!(p.radius[0], 3.0);
+        assert_eq!(p.radius[1], 1.0);
+        for bad in [&[0, 1][..], &[0, 1, 1], &[0, 1, 3]] {
+            assert!(matches!(p.permute(bad), Err(DemError::InvalidConfig(_))));
+        }
+        assert_eq!(
+            p.radius,
+            vec![3.0, 1.0, 2.0],
+            "a refused order changes nothing"
+        );
     }
 
     #[test]

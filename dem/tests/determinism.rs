@@ -102,7 +102,7 @@ fn packing(shuffled: bool, par: Parallelism) -> (Simulation, Vec<usize>) {
     let mut order: Vec<usize> = (0..p.len()).collect();
     if shuffled {
         order.shuffle(&mut ChaCha8Rng::seed_from_u64(7));
-        p.permute(&order);
+        p.permute(&order).unwrap();
     }
     let model = PairModel::cohesive(dem::Material::table4(0.15));
     let sim = Simulation::new(p, bx, model, vec![], config(0.1), par).unwrap();

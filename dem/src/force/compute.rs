@@ -26,7 +26,7 @@ const BLOCK: usize = 2048;
 /// Scratch reused from step to step (resized only when the neighbour list changes size).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct ForceBuffers {
-    /// Outputs of the pairs that reach into a later block, indexed by pair.
+    /// Outputs of the pairs that reach two blocks or more ahead, indexed by pair (other entries unused).
     out: Vec<Parked>,
     pub force: Vec<Vec3>,
     pub torque: Vec<Vec3>,
@@ -36,14 +36,14 @@ pub(crate) struct ForceBuffers {
     /// Per-pair constants, parallel to the neighbour list.
     consts: PairConstArrays,
     /// `parked_pair[parked_start[k]..parked_start[k + 1]]`: the pairs (j = k) whose first particle lies
-    /// in an earlier block, in pair order.
+    /// two blocks or more before k's, in pair order.
     parked_start: Vec<u32>,
     parked_pair: Vec<u32>,
     /// The neighbour-list build the constants and parked lists belong to (None: stale).
     built_for: Option<u64>,
 }
 
-/// What a pair reaching into a later block leaves for its second particle.
+/// What a pair reaching two blocks or more ahead leaves for its second particle.
 #[derive(Debug, Clone, Copy, Default)]
 struct Parked {
     /// Force on i (j receives its opposite).
@@ -88,7 +88,7 @@ pub(crate) struct Kin {
     w: Vec3,
 }
 
-/// The read-only pair arrays of the neighbour list, and the block count.
+/// The read-only pair arrays of the neighbour list, and the particle count.
 struct Pairs<'a> {
     i: &'a [u32],
     j: &'a [u32],
@@ -194,8 +194,9 @@ impl<'a> Span<'a> {
     /// its first particle and, when the second lies in this block or the next, to the second too;
     /// otherwise it parks the second's share in `out`.
     fn block<const T: bool, const E: bool>(self, ctx: &Ctx, pairs: &Pairs) -> PairEnergyTotals {
+        let b = self.first_block(self.units.start);
+        let zero_sums = self.colour == 0;
         let Span {
-            units,
             mut hist,
             out,
             f,
@@ -203,11 +204,10 @@ impl<'a> Span<'a> {
             mut w,
             ..
         } = self;
-        let b = 2 * units.start + self.colour;
         let (k0, k1) = (pairs.block_start(b), pairs.block_start(b + 1));
         // This span's slices end where the next unit starts: two blocks on (or the last particle).
         let owned = f.len();
-        if self.colour == 0 {
+        if zero_sums {
             f.fill(Vec3::zeros());
             t.fill(Vec3::zeros());
             if let Some(w) = w.as_deref_mut() {
@@ -412,7 +412,7 @@ impl ForceBuffers {
         };
         let mut totals = PairEnergyTotals::default();
         for colour in 0..2 {
-            let k0 = (colour * BLOCK).min(n);
+            let k0 = pairs.block_start(colour);
             let p0 = list.row_start[k0] as usize;
             let w = (!self.virial.is_empty()).then(|| &mut self.virial[k0..]);
             let span = Span {
