@@ -27,7 +27,11 @@
 //! (`tests/conservation.rs::total_energy_has_no_secular_drift_over_1e5_steps`).
 //!
 //! Decision: the damping force c_T v_T is added outside the cap (the paper caps F_T only, eq 4), as in
-//! LAMMPS's granular models.
+//! LAMMPS's granular models, and v_T is the same midpoint tangential velocity that advances delta_T
+//! (one tangential velocity per step for both, as LAMMPS uses one `vtr` for the shear increment and
+//! the damping). The end-of-step velocity would differ from it by O(dt) and cost a second evaluation of
+//! the rotational terms. The normal damping uses v_N = (v_j - v_i) . n exactly: spins add nothing
+//! along n.
 
 use super::pair_consts::{ConstWindow, Lane, LaneConsts, LANES};
 use crate::material::PairParams;
@@ -117,6 +121,7 @@ pub(crate) struct Batch {
     pub e_tangential: Lane,
     pub damping_power: Lane,
     pub slid: Lane,
+    s: SlideScratch,
 }
 
 impl Batch {
@@ -147,6 +152,15 @@ impl Batch {
         for l in 0..LANES {
             self.lane::<TANGENTIAL, ENERGY>(l, dt);
         }
+        if TANGENTIAL {
+            let s = &self.s;
+            let any = (0..LANES).fold(false, |a, l| a | (s.spring2[l] > s.cap[l] * s.cap[l]));
+            if any {
+                for l in 0..LANES {
+                    self.slide::<ENERGY>(l);
+                }
+            }
+        }
     }
 
     #[inline(always)]
@@ -159,13 +173,21 @@ impl Batch {
         let dist2 = d.norm_squared();
         let inside = dist2 < self.k.reach2[l];
         let dist = dist2.sqrt();
-        let n = d * (1.0 / dist);
+        // The separation one step earlier, exactly d + dv dt in symplectic Euler; with the history on,
+        // n and n_prev share one division (1 / (|d| |d_prev|)), the slowest vector instruction here.
+        let d_prev = d + dv * dt;
+        let (n, n_prev, dist_prev) = if TANGENTIAL {
+            let dist_prev = d_prev.norm();
+            let inv = 1.0 / (dist * dist_prev);
+            (d * (dist_prev * inv), d_prev * (dist * inv), dist_prev)
+        } else {
+            (d * (1.0 / dist), Vec3::zeros(), 0.0)
+        };
         let dn = dist - ri - rj;
         let ai = ri + 0.5 * dn;
         let aj = rj + 0.5 * dn;
-        // Velocity of i relative to j at the contact point.
-        let v_rel = dv + (ai * wi + aj * wj).cross(&n);
-        let vn = -v_rel.dot(&n);
+        // Normal velocity of i relative to j: the spins add nothing along n ((a w) x n is normal to n).
+        let vn = -dv.dot(&n);
         // Eq (3), every branch evaluated and one selected.
         let soft = self.k.slope[l] * (df - dn);
         let fn_ = if dn <= de {
@@ -178,18 +200,10 @@ impl Batch {
         let mut f = (fn_ + c_n * vn) * n;
         let mut damping_power = c_n * vn * vn;
         let mut h = Vec3::zeros();
-        let (mut e_t, mut slid) = (0.0, 0.0);
+        let (mut e_t, slid) = (0.0, 0.0);
         if TANGENTIAL {
-            let vt = v_rel + vn * n;
-            // Slip increment over the step that just moved the particles by v dt, in the midpoint
-            // geometry (see the module docs): the previous separation is exactly d + dv dt in
-            // symplectic Euler.
-            let d_prev = d + dv * dt;
-            let dist_prev = d_prev.norm();
-            let n_prev = d_prev * (1.0 / dist_prev);
-            // The normal turns by a tiny angle theta per step; with e = 1 - cos(theta) ~ theta^2 / 2,
-            // the midpoint normal's 1/|n + n_prev| = (1/2)(1 - e/2)^(-1/2) and 1/(1 + cos) = 1/(2 - e)
-            // are taken as series (remainder O(e^3), below 1e-9 even for a 0.05 rad step).
+            // Slip over the step that just moved the particles by v dt, in the midpoint geometry (see
+            // the module docs).
             let cos = n.dot(&n_prev);
             let e = 1.0 - cos;
             let m = (n + n_prev) * (0.5 * (1.0 + e * (0.25 + 0.09375 * e)));
@@ -207,19 +221,20 @@ impl Batch {
             let f_mt = self.k.f_mt[l];
             let capped = (self.k.fmt_per_df[l] * (df - dn)).max(0.0).min(f_mt);
             let cap = if dn <= 0.0 { f_mt } else { capped };
+            // Sliding (the spring beyond its cap) is rescaled in `slide`, run only for the rare
+            // batches that need it: the square root and division it takes are the costliest vector
+            // instructions of the kernel.
             let h2 = h.norm_squared();
-            let spring2 = k_t * k_t * h2;
-            let sliding = spring2 > cap * cap;
-            let scale = if sliding { cap / spring2.sqrt() } else { 1.0 };
-            h *= scale;
-            let h2_after = h.norm_squared();
+            self.s.spring2[l] = if inside { k_t * k_t * h2 } else { 0.0 };
+            self.s.cap[l] = cap;
             if ENERGY {
-                e_t = 0.5 * k_t * h2_after;
-                slid = if sliding { 0.5 * k_t * h2 - e_t } else { 0.0 };
+                e_t = 0.5 * k_t * h2;
             }
-            let ft = k_t * h + c_t * vt;
+            // The tangential damping acts on the same tangential velocity as the slip increment (one
+            // velocity per step for both, as LAMMPS's granular pair styles do).
+            let ft = k_t * h + c_t * v_mid;
             f -= ft;
-            damping_power += c_t * vt.norm_squared();
+            damping_power += c_t * v_mid.norm_squared();
         }
         if !inside {
             f = Vec3::zeros();
@@ -227,6 +242,12 @@ impl Batch {
         }
         let nxf = n.cross(&f);
         let (ti, tj) = (ai * nxf, aj * nxf);
+        if TANGENTIAL {
+            for a in 0..3 {
+                self.s.n[a][l] = n[a];
+            }
+            (self.s.ai[l], self.s.aj[l]) = (ai, aj);
+        }
         for a in 0..3 {
             self.f[a][l] = f[a];
             self.ti[a][l] = ti[a];
@@ -248,6 +269,45 @@ impl Batch {
             self.slid[l] = if inside { slid } else { 0.0 };
         }
     }
+
+    /// Eq (4) for the lanes whose spring exceeds its cap: rescales delta_T so that k_T |delta_T| =
+    /// F'_mT, and moves force, torques and energies by the spring force removed.
+    #[inline(always)]
+    fn slide<const ENERGY: bool>(&mut self, l: usize) {
+        let (spring2, cap) = (self.s.spring2[l], self.s.cap[l]);
+        if spring2 <= cap * cap {
+            return;
+        }
+        let v3 = |a: &[Lane; 3]| Vec3::new(a[0][l], a[1][l], a[2][l]);
+        let scale = cap / spring2.sqrt();
+        let (h, n) = (v3(&self.h), v3(&self.s.n));
+        // The spring force was -k_T h; it becomes -k_T h scale.
+        let df = self.k.k_t[l] * (1.0 - scale) * h;
+        let nxdf = n.cross(&df);
+        let (ai, aj) = (self.s.ai[l], self.s.aj[l]);
+        for a in 0..3 {
+            self.h[a][l] = h[a] * scale;
+            self.f[a][l] += df[a];
+            self.ti[a][l] += ai * nxdf[a];
+            self.tj[a][l] += aj * nxdf[a];
+        }
+        if ENERGY {
+            let e_t = self.e_tangential[l] * scale * scale;
+            self.slid[l] = self.e_tangential[l] - e_t;
+            self.e_tangential[l] = e_t;
+        }
+    }
+}
+
+/// What [`Batch::slide`] needs from the main pass.
+#[derive(Debug, Clone, Copy, Default)]
+struct SlideScratch {
+    /// k_T^2 |delta_T|^2 before the cap (0 for pairs out of range) and the cap F'_mT.
+    spring2: Lane,
+    cap: Lane,
+    n: [Lane; 3],
+    ai: Lane,
+    aj: Lane,
 }
 
 #[cfg(test)]
