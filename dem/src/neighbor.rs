@@ -86,6 +86,57 @@ impl NeighborList {
         self.i.is_empty()
     }
 
+    /// Checks the invariants the force loop relies on for a list that did not come from
+    /// [`NeighborList::build`] (a checkpoint): consistent lengths, rows in order, `i <= j < n`,
+    /// images in {-1, 0, 1} (all a build makes: neighbour cells are at most one box away), and a
+    /// reverse index holding each pair once under its second particle. Returns what is wrong.
+    pub fn check(&self, n: usize) -> std::result::Result<(), String> {
+        let np = self.len();
+        if self.j.len() != np || self.image.len() != np || self.hist.len() != np {
+            return Err("pair arrays of different lengths".into());
+        }
+        let rows_ok = self.row_start.len() == n + 1
+            && self.row_start[0] == 0
+            && self.row_start[n] as usize == np
+            && self.row_start.windows(2).all(|w| w[0] <= w[1]);
+        if !rows_ok {
+            return Err("row starts not increasing from 0 to the pair count".into());
+        }
+        for i in 0..n {
+            for p in self.row_start[i] as usize..self.row_start[i + 1] as usize {
+                let j = self.j[p] as usize;
+                if self.i[p] as usize != i || j < i || j >= n {
+                    return Err(format!("pair {p} is not (i, j) with {i} = i <= j < {n}"));
+                }
+                if self.image[p].iter().any(|s| s.abs() > 1) {
+                    return Err(format!("pair {p} has image {:?}", self.image[p]));
+                }
+            }
+        }
+        let rev_ok = self.rev_start.len() == n + 1
+            && self.rev_start[0] == 0
+            && self.rev_start[n] as usize == np
+            && self.rev_pair.len() == np
+            && self.rev_start.windows(2).all(|w| w[0] <= w[1])
+            && {
+                let mut seen = vec![false; np];
+                (0..n).all(|j| {
+                    self.rev_pair[self.rev_start[j] as usize..self.rev_start[j + 1] as usize]
+                        .iter()
+                        .all(|&p| {
+                            let p = p as usize;
+                            p < np
+                                && self.j[p] as usize == j
+                                && !std::mem::replace(&mut seen[p], true)
+                        })
+                })
+            };
+        if !rev_ok {
+            return Err("reverse index does not match the pairs".into());
+        }
+        Ok(())
+    }
+
     /// Whether the particles or the box have moved enough since the last build to need a new list.
     pub fn needs_rebuild(&self, pos: &[Vec3], bx: &SimBox, parallel: bool) -> bool {
         if self.ref_pos.len() != pos.len() || self.row_start.len() != pos.len() + 1 {

@@ -124,3 +124,42 @@ fn divergence_is_reported_not_propagated() {
     }
     let _ = Vec3::zeros();
 }
+
+#[test]
+fn damaged_checkpoint_neighbour_list_is_refused() {
+    // A bonded pair, stepped once so that the checkpoint carries a neighbour list.
+    let mut s = try_new(
+        pair_of(1.0, 0.0),
+        PairModel::cohesive(Material::table4(0.1)),
+        vec![],
+    )
+    .unwrap();
+    s.step().unwrap();
+    let dir = std::env::temp_dir().join(format!("cgdem-badckpt-{}", std::process::id()));
+    let path = dir.join("state.json");
+    s.save_checkpoint(&path).unwrap();
+    let good: serde_json::Value = serde_json::from_slice(&std::fs::read(&path).unwrap()).unwrap();
+    assert_eq!(
+        good["list"]["j"],
+        serde_json::json!([1]),
+        "the pair (0, 1) is listed"
+    );
+    // The intact file resumes; each damage is a format error naming the list, not a panic later.
+    assert!(Simulation::load_checkpoint(&path, Parallelism::Sequential).is_ok());
+    let damages: [(&str, serde_json::Value); 3] = [
+        ("j", serde_json::json!([5])),
+        ("image", serde_json::json!([[2, 0, 0]])),
+        ("rev_pair", serde_json::json!([3])),
+    ];
+    for (field, value) in damages {
+        let mut bad = good.clone();
+        bad["list"][field] = value;
+        std::fs::write(&path, serde_json::to_vec(&bad).unwrap()).unwrap();
+        let e = Simulation::load_checkpoint(&path, Parallelism::Sequential).unwrap_err();
+        assert!(
+            matches!(&e, DemError::Format { reason, .. } if reason.contains("neighbour list")),
+            "{field}: {e}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

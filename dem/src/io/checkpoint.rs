@@ -76,6 +76,11 @@ impl Simulation {
         sim.set_box_control(cp.box_control)?;
         let n = sim.particles.len();
         if cp.list.row_start.len() == n + 1 {
+            // The force loop indexes particles and image shifts from the list: refuse a damaged one.
+            cp.list.check(n).map_err(|reason| DemError::Format {
+                path: "<checkpoint>".into(),
+                reason: format!("neighbour list: {reason}"),
+            })?;
             sim.list = cp.list;
         }
         sim.step = cp.step;
