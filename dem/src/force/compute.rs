@@ -33,8 +33,14 @@ pub(crate) struct ForceBuffers {
     /// Per-particle virial sum_j 1/2 (x_i - x_j) (x) F_ij (filled when requested).
     pub virial: Vec<Matrix3<f64>>,
     kin: Vec<Kin>,
+    /// `kin` already holds the particles' current kinematics: the integrator of the previous step wrote
+    /// it and nothing has moved a particle since (see [`ForceBuffers::integrator_view`]).
+    kin_current: bool,
     /// Per-pair constants, parallel to the neighbour list.
     consts: PairConstArrays,
+    /// Per-pair periodic image as an index into the step's table of 27 shifts (see [`image_code`]):
+    /// one byte read per pair and no conversion or multiplication in the pair loop.
+    image_code: Vec<u8>,
     /// `parked_pair[parked_start[k]..parked_start[k + 1]]`: the pairs (j = k) whose first particle lies
     /// two blocks or more before k's, in pair order.
     parked_start: Vec<u32>,
@@ -83,16 +89,16 @@ pub(crate) struct ForcePhase {
 /// Kinematics of one particle, gathered once per step so that a pair reads its partner from one place.
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct Kin {
-    x: Vec3,
-    v: Vec3,
-    w: Vec3,
+    pub x: Vec3,
+    pub v: Vec3,
+    pub w: Vec3,
 }
 
 /// The read-only pair arrays of the neighbour list, and the particle count.
 struct Pairs<'a> {
     i: &'a [u32],
     j: &'a [u32],
-    image: &'a [[i8; 3]],
+    image: &'a [u8],
     row_start: &'a [u32],
     n: usize,
 }
@@ -280,20 +286,58 @@ impl<'a> Span<'a> {
 struct Ctx<'a> {
     kin: &'a [Kin],
     consts: &'a PairConstArrays,
-    lengths: Vec3,
+    /// The periodic shift of each image code, for this step's box.
+    shifts: [Vec3; 27],
     dt: f64,
 }
 
 impl Ctx<'_> {
+    /// x_j + image L - x_i.
     #[inline(always)]
-    fn separation(&self, i: usize, j: usize, image: [i8; 3]) -> Vec3 {
-        let s = Vec3::new(image[0] as f64, image[1] as f64, image[2] as f64)
-            .component_mul(&self.lengths);
-        self.kin[j].x + s - self.kin[i].x
+    fn separation(&self, i: usize, j: usize, image_code: u8) -> Vec3 {
+        self.kin[j].x + self.shifts[image_code as usize] - self.kin[i].x
     }
 }
 
+/// Index of an image with components in {-1, 0, 1} (all the neighbour list makes, see
+/// [`NeighborList::check`]) in the table of [`shift_table`].
+fn image_code(s: [i8; 3]) -> u8 {
+    (13 + 9 * s[2] + 3 * s[1] + s[0]) as u8
+}
+
+/// The shift image L of every image code: the same products the pair loop computed per pair
+/// before, so the separations are unchanged to the bit.
+fn shift_table(bx: &SimBox) -> [Vec3; 27] {
+    std::array::from_fn(|c| {
+        let c = c as i8;
+        bx.shift([c % 3 - 1, c / 3 % 3 - 1, c / 9 - 1])
+    })
+}
+
 impl ForceBuffers {
+    /// The forces and torques of the last evaluation, and the kinematics record for the integrator to
+    /// fill with the state it writes, which saves the next force phase a pass over the particles.
+    /// `keep` says whether the caller vouches that nothing moves a particle before that phase (no
+    /// neighbour rebuild, which wraps positions, no box remap, no user access between steps); the
+    /// record is `None` otherwise.
+    pub fn integrator_view(
+        &mut self,
+        n: usize,
+        keep: bool,
+    ) -> (&[Vec3], &[Vec3], Option<&mut [Kin]>) {
+        self.kin_current = keep;
+        let kin = keep.then(|| {
+            self.kin.resize(n, Kin::default());
+            &mut self.kin[..]
+        });
+        (&self.force, &self.torque, kin)
+    }
+
+    /// Forgets the kinematics the integrator left (a neighbour rebuild wrapped the positions).
+    pub fn forget_kinematics(&mut self) {
+        self.kin_current = false;
+    }
+
     /// Marks the per-pair constants stale (after a change of particles, model or groups).
     pub fn invalidate(&mut self) {
         self.built_for = None;
@@ -311,6 +355,9 @@ impl ForceBuffers {
             let (i, j) = (list.i[k] as usize, list.j[k] as usize);
             PairConst::new(coef, radius[i], radius[j], mass[i], mass[j])
         });
+        self.image_code.clear();
+        self.image_code
+            .extend(list.image.iter().map(|&s| image_code(s)));
         let n = parts.len();
         self.parked_start.clear();
         self.parked_pair.clear();
@@ -346,27 +393,32 @@ impl ForceBuffers {
         }
         self.refresh(coef, parts, list);
         let mut kin = std::mem::take(&mut self.kin);
-        kin.resize(n, Kin::default());
-        let fill = |(c, ks): (usize, &mut [Kin])| {
-            for (k, slot) in ks.iter_mut().enumerate() {
-                let i = c * BLOCK + k;
-                *slot = Kin {
-                    x: parts.pos[i],
-                    v: parts.vel[i],
-                    w: parts.omega[i],
-                };
+        if !(self.kin_current && kin.len() == n) {
+            let _s = tracing::trace_span!("kinematics").entered();
+            kin.resize(n, Kin::default());
+            let fill = |(c, ks): (usize, &mut [Kin])| {
+                for (k, slot) in ks.iter_mut().enumerate() {
+                    let i = c * BLOCK + k;
+                    *slot = Kin {
+                        x: parts.pos[i],
+                        v: parts.vel[i],
+                        w: parts.omega[i],
+                    };
+                }
+            };
+            if phase.parallel {
+                kin.par_chunks_mut(BLOCK).enumerate().for_each(fill);
+            } else {
+                kin.chunks_mut(BLOCK).enumerate().for_each(fill);
             }
-        };
-        if phase.parallel {
-            kin.par_chunks_mut(BLOCK).enumerate().for_each(fill);
-        } else {
-            kin.chunks_mut(BLOCK).enumerate().for_each(fill);
         }
+        // Used once: whatever runs before the next force phase may move particles.
+        self.kin_current = false;
         let consts = std::mem::take(&mut self.consts);
         let ctx = Ctx {
             kin: &kin,
             consts: &consts,
-            lengths: bx.lengths(),
+            shifts: shift_table(bx),
             dt,
         };
         let totals = {
@@ -406,7 +458,7 @@ impl ForceBuffers {
         let pairs = Pairs {
             i: &list.i,
             j: &list.j,
-            image: &list.image,
+            image: &self.image_code,
             row_start: &list.row_start,
             n,
         };
@@ -438,6 +490,7 @@ impl ForceBuffers {
     /// in pair order (none in a packing stored in space order, whose pairs reach at most one block on).
     fn gather_parked(&mut self, ctx: &Ctx, list: &NeighborList, phase: ForcePhase) {
         let (out, start, parked) = (&self.out, &self.parked_start, &self.parked_pair);
+        let codes = &self.image_code;
         let add = |kk: usize, f: &mut Vec3, t: &mut Vec3, mut w: Option<&mut Matrix3<f64>>| {
             for &p in &parked[start[kk] as usize..start[kk + 1] as usize] {
                 let p = p as usize;
@@ -445,7 +498,7 @@ impl ForceBuffers {
                 *f -= o.f;
                 *t += o.tj;
                 if let Some(w) = w.as_deref_mut() {
-                    let d = ctx.separation(list.i[p] as usize, kk, list.image[p]);
+                    let d = ctx.separation(list.i[p] as usize, kk, codes[p]);
                     *w += -0.5 * d * o.f.transpose();
                 }
             }
