@@ -113,4 +113,106 @@ fn small_melt_quench_gives_plausible_glass_and_elastic_constants() {
         g1 > g1_vs_0k_bulk,
         "annealed gamma {g1} not referenced to an annealed bulk"
     );
+
+    // A slab two cells thick (`surface_replicate`): the replicated bulk reference is the same
+    // minimum (energy = 2 x the cell's, so the reference adds no energy of its own), and the
+    // cleaved slab holds both copies, twice as thick as the cell.
+    let thick = SilicaConfig {
+        surface_replicate: [1, 1, 2],
+        surface_anneal_ps: 0.0,
+        ..surf
+    };
+    thick.validate().unwrap();
+    let rep = measure::replicated(&l, &thick, &reference).unwrap();
+    let (n, lz) = (reference.x.len() / 3, reference.cell.lengths()[2]);
+    assert_eq!(l.natoms().unwrap() as usize, 2 * n);
+    assert!((rep.cell.lengths()[2] / lz - 2.0).abs() < 1e-12, "{rep:?}");
+    assert!(
+        (rep.pe / (2.0 * reference.pe) - 1.0).abs() < 1e-9,
+        "replicated bulk {} eV vs 2 x {} eV",
+        rep.pe,
+        reference.pe
+    );
+    let (g2, _) = measure::surface_energy(&l, &thick, &reference).unwrap();
+    // Thickness: the box length along z less the widest gap between atoms (the vacuum; z is
+    // periodic, so an atom may wrap across it).
+    let mut z: Vec<f64> = l.gather_f64("x", 3).unwrap()[2..]
+        .iter()
+        .step_by(3)
+        .copied()
+        .collect();
+    z.sort_by(f64::total_cmp);
+    let lz_box = l.box_state().unwrap().lengths()[2];
+    let gap = z
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .fold(z[0] + lz_box - z[z.len() - 1], f64::max);
+    let extent = lz_box - gap;
+    eprintln!("gamma, slab of 2 cells: minimised {g2:.3} J/m^2 (1 cell: {g0:.3}), {extent:.1} A thick (cell {lz:.1} A)");
+    assert!((0.5..3.0).contains(&g2), "gamma {g2}");
+    assert!(
+        (extent / (2.0 * lz) - 1.0).abs() < 0.15,
+        "slab {extent} A thick, 2 cells of {lz} A"
+    );
+}
+
+/// Measurement, not CI (ignored): gamma (unannealed and annealed) versus `surface_replicate` on one
+/// default 648-atom glass made once on 1 rank (the glass `cgdem md silica --config seedN.toml`
+/// makes on 1 rank: same commands and seed). Settings from the environment:
+///
+/// ```bash
+/// CGDEM_SCAN_SEED=1 CGDEM_SCAN_REPS="111 112 113 221" \
+///   cargo test --release -p md-bridge --test silica -- --ignored --nocapture gamma_versus_replication
+/// ```
+///
+/// Prints one `scan` line per replication: seed, copies, atoms, slab thickness and area (nm, the
+/// 0 K cell before cleaving), gamma unannealed and annealed (J/m^2), wall seconds.
+#[test]
+#[ignore]
+fn gamma_versus_replication() {
+    let env = |k: &str, d: &str| std::env::var(k).unwrap_or_else(|_| d.to_owned());
+    let seed: u64 = env("CGDEM_SCAN_SEED", "12345").parse().unwrap();
+    let reps: Vec<[u32; 3]> = env("CGDEM_SCAN_REPS", "111 112")
+        .split_whitespace()
+        .map(|w| {
+            let d: Vec<u32> = w.chars().map(|c| c.to_digit(10).unwrap()).collect();
+            [d[0], d[1], d[2]]
+        })
+        .collect();
+    let v = common::venv();
+    let l = common::lammps();
+    let pot = v.potential(silica::POTENTIAL).unwrap();
+    let cfg = SilicaConfig {
+        seed,
+        ..SilicaConfig::default()
+    };
+    let t = std::time::Instant::now();
+    let rho = measure::melt_quench(&l, &pot, &cfg).unwrap();
+    let reference = measure::relax_0k(&l, &cfg).unwrap();
+    let rho0 = l.thermo("density").unwrap() * 1000.0;
+    let n = l.natoms().unwrap();
+    eprintln!(
+        "scan glass seed {seed}: {n} atoms, rho {rho:.0} (0 K {rho0:.0}) kg/m^3, {:.0} s",
+        t.elapsed().as_secs_f64()
+    );
+    for rep in reps {
+        let t = std::time::Instant::now();
+        let c = SilicaConfig {
+            surface_replicate: rep,
+            ..cfg.clone()
+        };
+        c.validate().unwrap();
+        let (g0, g1) = measure::surface_energy(&l, &c, &reference).unwrap();
+        let atoms = l.natoms().unwrap();
+        let len = reference.cell.lengths();
+        let thick = len[2] * f64::from(rep[2]) / 10.0;
+        let area = len[0] * len[1] * f64::from(rep[0] * rep[1]) / 100.0;
+        eprintln!(
+            "scan seed {seed} rep {}x{}x{} atoms {atoms} thickness_nm {thick:.2} area_nm2 {area:.2} gamma_unannealed {g0:.3} gamma {g1:.3} wall_s {:.0}",
+            rep[0],
+            rep[1],
+            rep[2],
+            t.elapsed().as_secs_f64()
+        );
+    }
 }

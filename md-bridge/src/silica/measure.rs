@@ -20,7 +20,15 @@ pub struct Reference {
 }
 
 impl Reference {
+    /// Puts box, positions and zero velocities back; first deletes the copies a [`replicated`]
+    /// cell added (atom ids above this reference's count), so any measurement can follow it.
     fn restore(&self, lmp: &Lammps) -> Result<()> {
+        let n = self.x.len() / 3;
+        if lmp.natoms()? as usize > n {
+            lmp.commands(&format!(
+                "group copies id > {n}\ndelete_atoms group copies compress no\ngroup copies delete"
+            ))?;
+        }
         lmp.set_box(&self.cell)?;
         lmp.scatter_f64("x", 3, &self.x)?;
         lmp.command("velocity all set 0.0 0.0 0.0")
@@ -336,10 +344,33 @@ fix_modify md temp tdef",
     peak_of(curve, "shear strength")
 }
 
+/// The 0 K reference replicated `surface_replicate` times (LAMMPS `replicate`, atom ids of the
+/// original cell unchanged, copies numbered after them); `r` itself if that is [1, 1, 1]. Leaves
+/// the instance holding the replicated cell. Its energy is the copies' sum (the periodic images
+/// are the same), so a replicated bulk is still a minimum at the same energy per atom.
+pub fn replicated(lmp: &Lammps, cfg: &SilicaConfig, r: &Reference) -> Result<Reference> {
+    r.restore(lmp)?;
+    let [nx, ny, nz] = cfg.surface_replicate;
+    if [nx, ny, nz] == [1, 1, 1] {
+        return Ok(r.clone());
+    }
+    lmp.commands(&format!(
+        "replicate {nx} {ny} {nz}
+run 0"
+    ))?;
+    Ok(Reference {
+        cell: lmp.box_state()?,
+        x: lmp.gather_f64("x", 3)?,
+        pe: lmp.thermo("pe")?,
+    })
+}
+
 /// Cleaves the cell along z (opens `surface_vacuum`), relaxes; returns (gamma of the cleaved and
-/// minimised slab, gamma after the surface anneal) in J/m^2. Leaves the instance with a slab;
-/// restore the reference to reuse it.
+/// minimised slab, gamma after the surface anneal) in J/m^2. The cell is first replicated
+/// `surface_replicate` times ([`replicated`]), slab and bulk reference alike. Leaves the instance
+/// with the (replicated) slab; restore the reference to reuse it.
 pub fn surface_energy(lmp: &Lammps, cfg: &SilicaConfig, r: &Reference) -> Result<(f64, f64)> {
+    let r = &replicated(lmp, cfg, r)?;
     let b = r.cell;
     let area = (b.hi[0] - b.lo[0]) * (b.hi[1] - b.lo[1]);
     let to_gamma =

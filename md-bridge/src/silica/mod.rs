@@ -97,6 +97,10 @@ pub struct SilicaConfig {
     pub surface_anneal_ps: f64,
     /// K of that anneal; room temperature, the surfaces reconstruct without melting.
     pub surface_anneal_temperature: f64,
+    /// Copies of the 0 K glass along x, y and z (LAMMPS `replicate`) before cleaving; the bulk
+    /// reference is the same replicated cell. [1, 1, 1]: the slab is the glass itself, one cell
+    /// (~2.1 nm at 648 atoms) thick; [1, 1, 2] doubles its thickness, [2, 2, 1] its area.
+    pub surface_replicate: [u32; 3],
     /// Seed of atom placement and velocities; fixed so runs are reproducible and cacheable.
     pub seed: u64,
 }
@@ -125,6 +129,7 @@ impl Default for SilicaConfig {
             surface_vacuum: 15.0,
             surface_anneal_ps: 2.0,
             surface_anneal_temperature: 300.0,
+            surface_replicate: [1, 1, 1],
             seed: 12345,
         }
     }
@@ -162,6 +167,16 @@ impl SilicaConfig {
             if !(v.is_finite() && v >= 0.0) {
                 return bad(&format!("{n} must be >= 0, got {v}"));
             }
+        }
+        if self.surface_replicate.contains(&0)
+            || self
+                .surface_replicate
+                .iter()
+                .map(|&n| u64::from(n))
+                .product::<u64>()
+                > 27
+        {
+            return bad("surface_replicate: each count >= 1, at most 27 copies in all");
         }
         if self.formula_units < 8 {
             return bad("formula_units must be >= 8 (24 atoms)");
@@ -229,6 +244,7 @@ pub fn run(lmp: &Lammps, potential: &Path, cfg: &SilicaConfig) -> Result<SilicaR
         t = Instant::now();
     };
     let density = measure::melt_quench(lmp, potential, cfg)?;
+    let n_atoms = lmp.natoms()?;
     lap("melt_quench", &mut timings);
     let reference = measure::relax_0k(lmp, cfg)?;
     let density_0k = lmp.thermo("density")? * 1000.0;
@@ -256,7 +272,7 @@ pub fn run(lmp: &Lammps, potential: &Path, cfg: &SilicaConfig) -> Result<SilicaR
         (None, None)
     };
     Ok(SilicaResult {
-        n_atoms: lmp.natoms()?,
+        n_atoms,
         density,
         density_0k,
         stiffness: el.c,
