@@ -87,18 +87,14 @@ impl Default for Settings {
 impl Settings {
     /// Checks every setting (also done by [`crate::CalibrationConfig::prepare`], before any simulation).
     pub fn validate(&self) -> Result<()> {
-        for (n, v) in [
+        if let Some(m) = dem::error::not_positive(&[
             ("tolerance", self.tolerance),
             ("fd_step", self.fd_step),
             ("tau", self.tau),
             ("max_step", self.max_step),
             ("min_step", self.min_step),
-        ] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(CalibrateError::InvalidConfig(format!(
-                    "solver {n} = {v} must be positive"
-                )));
-            }
+        ]) {
+            return Err(CalibrateError::InvalidConfig(format!("solver {m}")));
         }
         if self.refresh_after == 0 {
             return Err(CalibrateError::InvalidConfig(

@@ -65,3 +65,30 @@ impl DemError {
         }
     }
 }
+
+/// Names the first of `fields` (name, value) that is not a finite positive number, as
+/// "name = value must be positive", for the caller to wrap in its own error; None when all are.
+pub fn not_positive(fields: &[(&str, f64)]) -> Option<String> {
+    fields
+        .iter()
+        .find(|(_, v)| !(v.is_finite() && *v > 0.0))
+        .map(|(n, v)| format!("{n} = {v} must be positive"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn not_positive_names_the_first_offender() {
+        assert_eq!(not_positive(&[("a", 1.0), ("b", 2e-300)]), None);
+        assert_eq!(
+            not_positive(&[("a", 1.0), ("b", 0.0), ("c", -1.0)]).as_deref(),
+            Some("b = 0 must be positive")
+        );
+        assert!(not_positive(&[("a", f64::NAN)])
+            .unwrap()
+            .starts_with("a = NaN"));
+        assert!(not_positive(&[("a", f64::INFINITY)]).is_some());
+    }
+}

@@ -21,7 +21,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::{DemError, Result};
+use crate::error::{not_positive, DemError, Result};
 
 /// Target macroscopic properties of the material to model (paper 000 Table 3), in engine units.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -195,20 +195,18 @@ impl Default for ParamScale {
 
 impl ParamScale {
     fn validate(&self) -> Result<()> {
-        for (n, v) in [
+        match not_positive(&[
             ("k_n", self.k_n),
             ("k_t", self.k_t),
             ("delta_e", self.delta_e),
             ("delta_f", self.delta_f),
             ("f_mt", self.f_mt),
-        ] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(DemError::InvalidMaterial(format!(
-                    "parameter multiplier {n} = {v} must be positive"
-                )));
-            }
+        ]) {
+            Some(m) => Err(DemError::InvalidMaterial(format!(
+                "parameter multiplier {m}"
+            ))),
+            None => Ok(()),
         }
-        Ok(())
     }
 }
 

@@ -24,7 +24,7 @@ use serde::{Deserialize, Serialize};
 use super::stats::{coordination, Coordination};
 use super::Sample;
 use crate::domain::BoxControl;
-use crate::error::{DemError, Result};
+use crate::error::{not_positive, DemError, Result};
 use crate::material::{Interactions, PairModel};
 use crate::sim::{Parallelism, RunConfig, Simulation, TimeStep};
 use crate::Vec3;
@@ -109,19 +109,14 @@ pub struct RelaxReport {
 
 impl RelaxConfig {
     fn validate(&self) -> Result<()> {
-        let pos = [
+        if let Some(m) = not_positive(&[
             ("phase2_damping", self.phase2_damping),
             ("time_step_fraction", self.time_step_fraction),
             ("stress_tolerance", self.stress_tolerance),
             ("box_gain", self.box_gain),
             ("max_strain_step", self.max_strain_step),
-        ];
-        for (n, v) in pos {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(DemError::InvalidConfig(format!(
-                    "relaxation {n} = {v} must be positive"
-                )));
-            }
+        ]) {
+            return Err(DemError::InvalidConfig(format!("relaxation {m}")));
         }
         if !(self.phase1_damping.is_finite() && self.phase1_damping >= 0.0) || self.check_every == 0
         {

@@ -20,7 +20,7 @@ use serde::{Deserialize, Serialize};
 
 use super::rig::Rig;
 use super::{Curve, CurvePoint, WallConfig};
-use crate::error::{DemError, Result};
+use crate::error::{not_positive, DemError, Result};
 use crate::material::PairModel;
 use crate::sample::Sample;
 use crate::sim::{Parallelism, RunConfig, TimeStep};
@@ -91,16 +91,12 @@ pub struct ElasticResult {
 
 impl ElasticConfig {
     fn validate(&self) -> Result<()> {
-        for (n, v) in [
+        if let Some(m) = not_positive(&[
             ("stress", self.stress),
             ("time_step_fraction", self.time_step_fraction),
             ("tolerance", self.tolerance),
-        ] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(DemError::InvalidConfig(format!(
-                    "elastic {n} = {v} must be positive"
-                )));
-            }
+        ]) {
+            return Err(DemError::InvalidConfig(format!("elastic {m}")));
         }
         if !(self.damping.is_finite() && self.damping >= 0.0) || self.check_every == 0 {
             return Err(DemError::InvalidConfig(

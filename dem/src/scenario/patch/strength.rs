@@ -19,7 +19,7 @@ use serde::{Deserialize, Serialize};
 
 use super::rig::Rig;
 use super::{target_strength, Curve, CurvePoint, WallConfig};
-use crate::error::{DemError, Result};
+use crate::error::{not_positive, DemError, Result};
 use crate::material::PairModel;
 use crate::sample::Sample;
 use crate::sim::{Parallelism, RunConfig, TimeStep};
@@ -121,17 +121,13 @@ impl StrengthConfig {
     }
 
     fn validate(&self) -> Result<()> {
-        for (n, v) in [
+        if let Some(m) = not_positive(&[
             ("strain_rate", self.strain_rate),
             ("time_step_fraction", self.time_step_fraction),
             ("post_peak_strain", self.post_peak_strain),
             ("max_strain", self.max_strain),
-        ] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(DemError::InvalidConfig(format!(
-                    "strength {n} = {v} must be positive"
-                )));
-            }
+        ]) {
+            return Err(DemError::InvalidConfig(format!("strength {m}")));
         }
         if !(self.damping.is_finite() && self.damping >= 0.0 && self.stop_below.is_finite())
             || self.record_every == 0
