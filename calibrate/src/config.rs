@@ -59,6 +59,15 @@ impl SiMaterial {
         }
     }
 
+    /// The `[material]` table of the material card at `path`; its scaling exponent is the file's, or
+    /// the default 0.5 (an MD card has none).
+    pub fn from_card(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path).map_err(|e| CalibrateError::io(path, e))?;
+        toml::from_str::<CardFile>(&text)
+            .map(|card| card.material)
+            .map_err(|e| CalibrateError::format(path, e))
+    }
+
     /// Paper 000 Table 5 (amorphous silica).
     pub fn table5() -> Self {
         SiMaterial {
@@ -173,11 +182,7 @@ impl CalibrationConfig {
 
     /// Reads a config file, and the material card it names (if any) into `material_si`.
     pub fn from_file(path: &Path) -> Result<Self> {
-        let io = |p: &Path, e: std::io::Error| CalibrateError::Io {
-            path: p.display().to_string(),
-            reason: e.to_string(),
-        };
-        let text = std::fs::read_to_string(path).map_err(|e| io(path, e))?;
+        let text = std::fs::read_to_string(path).map_err(|e| CalibrateError::io(path, e))?;
         let mut cfg = Self::from_toml(&text)?;
         if let Some(card) = &cfg.material_card {
             if cfg.material.is_some() || cfg.material_si.is_some() {
@@ -186,13 +191,7 @@ impl CalibrationConfig {
                 ));
             }
             let card_path = path.parent().unwrap_or(Path::new(".")).join(&card.path);
-            let text = std::fs::read_to_string(&card_path).map_err(|e| io(&card_path, e))?;
-            let mut m = toml::from_str::<CardFile>(&text)
-                .map_err(|e| CalibrateError::Format {
-                    path: card_path.display().to_string(),
-                    reason: e.to_string(),
-                })?
-                .material;
+            let mut m = SiMaterial::from_card(&card_path)?;
             m.scaling = card.scaling;
             cfg.material_si = Some(m);
         }

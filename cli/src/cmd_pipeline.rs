@@ -11,7 +11,6 @@ use anyhow::{Context, Result};
 use calibrate::{CalibrationConfig, SiMaterial};
 use clap::Args;
 use dem::scenario::patch::suite::SampleSpec;
-use serde::Deserialize;
 
 /// Arguments of `cgdem pipeline`.
 #[derive(Debug, Args)]
@@ -31,12 +30,6 @@ pub struct PipelineArgs {
     pub size: f64,
 }
 
-/// The part of a material card the pipeline reads (other tables, e.g. provenance, are ignored).
-#[derive(Debug, Deserialize)]
-struct Card {
-    material: SiMaterial,
-}
-
 fn config(args: &PipelineArgs) -> Result<CalibrationConfig> {
     let base = |sample| format!("{sample}\n[solver]\nmax_iterations = 12\n");
     let text = match &args.material {
@@ -54,11 +47,7 @@ fn config(args: &PipelineArgs) -> Result<CalibrationConfig> {
     };
     let mut cfg = CalibrationConfig::from_toml(&text)?;
     if let Some(path) = &args.material {
-        let t =
-            std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
-        let card: Card =
-            toml::from_str(&t).with_context(|| format!("parsing {}", path.display()))?;
-        cfg.material_si = Some(card.material);
+        cfg.material_si = Some(SiMaterial::from_card(path)?);
     }
     Ok(cfg)
 }
