@@ -20,19 +20,6 @@ pub struct CalibrateArgs {
     pub out: PathBuf,
 }
 
-pub(crate) fn parallelism(threads: usize) -> dem::Parallelism {
-    let n = if threads == 0 {
-        std::thread::available_parallelism().map_or(1, |n| n.get())
-    } else {
-        threads
-    };
-    if n <= 1 {
-        dem::Parallelism::Sequential
-    } else {
-        dem::Parallelism::Threads(n)
-    }
-}
-
 /// The summary table: target, uncalibrated, calibrated (and verified) values with relative errors.
 pub(crate) fn table(
     targets: &Properties,
@@ -83,7 +70,7 @@ pub(crate) fn run_config(
     out: &Path,
     threads: usize,
 ) -> Result<calibrate::Outcome> {
-    let o = calibrate::calibrate(cfg, out, parallelism(threads), None)
+    let o = calibrate::calibrate(cfg, out, crate::parallelism(threads), None)
         .with_context(|| format!("calibrating into {}", out.display()))?;
     let c = &o.card;
     let multipliers = format!(

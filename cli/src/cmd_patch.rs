@@ -13,7 +13,6 @@ use dem::material::{Material, PairModel, ParamScale};
 use dem::sample::RelaxConfig;
 use dem::scenario::patch::suite::{make_sample, SampleSpec};
 use dem::scenario::patch::{run_suite, PatchSuite};
-use dem::Parallelism;
 use serde::Deserialize;
 
 /// Arguments of `cgdem patch`.
@@ -56,19 +55,6 @@ fn table4() -> Material {
     Material::table4(0.15)
 }
 
-fn parallelism(threads: usize) -> Parallelism {
-    let n = if threads == 0 {
-        std::thread::available_parallelism().map_or(1, |n| n.get())
-    } else {
-        threads
-    };
-    if n <= 1 {
-        Parallelism::Sequential
-    } else {
-        Parallelism::Threads(n)
-    }
-}
-
 fn read_toml<T: serde::de::DeserializeOwned>(path: &PathBuf) -> Result<T> {
     let text =
         std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
@@ -80,7 +66,7 @@ pub fn run(args: PatchArgs, threads: usize) -> Result<()> {
     let suite: PatchSuite = read_toml(&args.config)?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
-    let report = run_suite(&suite, Some(&args.out), parallelism(threads))?;
+    let report = run_suite(&suite, Some(&args.out), crate::parallelism(threads))?;
     for (k, c) in report.cases.iter().enumerate() {
         let e = c
             .elastic
@@ -119,7 +105,7 @@ pub fn run_sample(args: SampleArgs, threads: usize) -> Result<()> {
     let cfg: SampleConfig = read_toml(&args.config)?;
     let mut model = PairModel::cohesive(cfg.material);
     model.scale = cfg.scale;
-    let sample = make_sample(&cfg.sample, &model, &cfg.relax, parallelism(threads))?;
+    let sample = make_sample(&cfg.sample, &model, &cfg.relax, crate::parallelism(threads))?;
     sample.save(&args.out)?;
     println!(
         "{} particles, volume fraction {:.4}, written to {}",

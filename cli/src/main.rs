@@ -70,6 +70,20 @@ fn main() -> Result<()> {
     }
 }
 
+/// The DEM threads of `--threads`: 0 takes every core the machine offers.
+fn parallelism(threads: usize) -> dem::Parallelism {
+    let n = if threads == 0 {
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    } else {
+        threads
+    };
+    if n <= 1 {
+        dem::Parallelism::Sequential
+    } else {
+        dem::Parallelism::Threads(n)
+    }
+}
+
 /// First Ctrl-C: every simulation stops at its next step and the command saves what it computed
 /// (checkpoints, histories); second Ctrl-C: exit at once.
 fn install_interrupt_handler() {
