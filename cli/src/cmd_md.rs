@@ -141,6 +141,13 @@ fn options(l: &Launch) -> Result<RunOptions> {
     })
 }
 
+/// Writes the job record (request, output, provenance) as pretty JSON to `out/file`.
+fn save_record(rec: &JobRecord, out: &Path, file: &str) -> Result<()> {
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    std::fs::write(out.join(file), serde_json::to_string_pretty(rec)?)?;
+    Ok(())
+}
+
 fn launch(job: &Job, l: &Launch) -> Result<JobRecord> {
     let (record, cached) = run_job(job, &options(l)?)?;
     let p = &record.provenance;
@@ -226,8 +233,7 @@ fn silica(config: Option<&Path>, out: &Path, l: &Launch) -> Result<()> {
     let JobOutput::Silica(res) = &rec.output else {
         bail!("unexpected output {:?}", rec.output)
     };
-    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
-    std::fs::write(out.join("silica.json"), serde_json::to_string_pretty(&rec)?)?;
+    save_record(&rec, out, "silica.json")?;
     print_summary(res, &cfg);
     match card(res, &rec, &cfg) {
         Some(card) => {
@@ -416,8 +422,7 @@ fn model(config: Option<&Path>, out: &Path, l: &Launch) -> Result<()> {
     let JobOutput::Model(r) = &rec.output else {
         bail!("unexpected output {:?}", rec.output)
     };
-    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
-    std::fs::write(out.join("model.json"), serde_json::to_string_pretty(&rec)?)?;
+    save_record(&rec, out, "model.json")?;
     println!(
         "2D LJ hex crystal, cutoff {} sigma, {} atoms ({:.0} atoms/nm2 at sigma = {} nm)",
         cfg.cutoff, r.n_atoms, r.atoms_per_nm2, cfg.sigma_nm
@@ -448,11 +453,7 @@ fn junction(config: Option<&Path>, width: Option<f64>, out: &Path, l: &Launch) -
     let JobOutput::Junction(r) = &rec.output else {
         bail!("unexpected output {:?}", rec.output)
     };
-    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
-    std::fs::write(
-        out.join("junction.json"),
-        serde_json::to_string_pretty(&rec)?,
-    )?;
+    save_record(&rec, out, "junction.json")?;
     let v = &r.verdict;
     println!(
         "D = {} sigma, cutoff {}: {} atoms ({} in the junction)",
