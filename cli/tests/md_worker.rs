@@ -26,22 +26,11 @@ fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
 }
 
-/// A 500-atom LJ run that leaves its potential energy per atom in `pe_atom` (LJ units normalise
-/// thermo energies per atom).
-const LJ: &str = "units lj
-lattice fcc 0.8442
-region box block 0 5 0 5 0 5
-create_box 1 box
-create_atoms 1 box
-mass 1 1.0
-velocity all create 1.44 87287 loop geom
-pair_style lj/cut 2.5
-pair_coeff 1 1 1.0 1.0 2.5
-fix 1 all nve
-run 200
-variable pe_atom equal pe
-variable n equal atoms
-";
+/// A 500-atom LJ run of `steps` steps (the melt of `cgdem bench-md`, 5^3 fcc cells) that leaves
+/// its potential energy per atom in `pe_atom` (LJ units normalise thermo energies per atom).
+fn lj(steps: u32) -> String {
+    md_bridge::bench::lj_input(5, steps) + "variable pe_atom equal pe\nvariable n equal atoms\n"
+}
 
 fn write_input(dir: &Path, body: &str) -> String {
     let p = dir.join("in.test");
@@ -58,7 +47,7 @@ fn cache_entries(cache: &Path) -> Vec<PathBuf> {
 #[test]
 fn script_job_runs_in_worker_and_identical_request_hits_cache() {
     let d = scratch("cache");
-    let input = write_input(&d, LJ);
+    let input = write_input(&d, &lj(200));
     let cache = d.join("cache");
     let args = [
         "md",
@@ -113,7 +102,7 @@ fn script_job_runs_in_worker_and_identical_request_hits_cache() {
     assert_eq!(cache_entries(&cache).len(), 1);
 
     // A different request (edited input) is a different cache entry.
-    let input2 = write_input(&d, &LJ.replace("run 200", "run 100"));
+    let input2 = write_input(&d, &lj(100));
     let third = cgdem(&[
         "md",
         "script",
@@ -131,7 +120,7 @@ fn script_job_runs_in_worker_and_identical_request_hits_cache() {
 #[test]
 fn same_job_runs_under_mpirun_with_two_ranks() {
     let d = scratch("mpi");
-    let input = write_input(&d, LJ);
+    let input = write_input(&d, &lj(200));
     let cache = d.join("cache");
     let out = cgdem(&[
         "md",
