@@ -59,29 +59,6 @@ impl MaterialCard {
     }
 }
 
-/// Paper 000 Table 5 (amorphous silica targets), SI units.
-pub const TABLE5: Material5 = Material5 {
-    young_modulus: 73e9,
-    poisson_ratio: 0.17,
-    tensile_strength: 16e9,
-    shear_strength: 9e9,
-    surface_energy: 1.5,
-    restitution: 0.9,
-    density: 2200.0,
-};
-
-/// Table 5 as plain numbers (a `const` cannot hold the `String` name of [`Material`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Material5 {
-    pub young_modulus: f64,
-    pub poisson_ratio: f64,
-    pub tensile_strength: f64,
-    pub shear_strength: f64,
-    pub surface_energy: f64,
-    pub restitution: f64,
-    pub density: f64,
-}
-
 /// Length scales of paper 000, metres.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct LengthScales {
@@ -103,18 +80,20 @@ pub fn length_scales(e: f64, nu: f64, sigma_n: f64, sigma_t: f64, gamma: f64) ->
 }
 
 impl Material {
-    pub fn length_scales(&self) -> LengthScales {
-        length_scales(
-            self.young_modulus,
-            self.poisson_ratio,
-            self.tensile_strength,
-            self.shear_strength,
-            self.surface_energy,
-        )
+    /// Paper 000 Table 5 (amorphous silica targets).
+    pub fn table5() -> Self {
+        Material {
+            name: "silica (paper 000 Table 5)".into(),
+            young_modulus: 73e9,
+            poisson_ratio: 0.17,
+            tensile_strength: 16e9,
+            shear_strength: 9e9,
+            surface_energy: 1.5,
+            restitution: 0.9,
+            density: 2200.0,
+        }
     }
-}
 
-impl Material5 {
     pub fn length_scales(&self) -> LengthScales {
         length_scales(
             self.young_modulus,
@@ -128,7 +107,7 @@ impl Material5 {
 
 /// Side-by-side text table of a measured card and Table 5, with the derived lengths.
 pub fn compare_with_table5(m: &Material) -> String {
-    let t = TABLE5;
+    let t = Material::table5();
     let (lm, lt) = (m.length_scales(), t.length_scales());
     let rows: [(&str, f64, f64); 10] = [
         ("E (GPa)", m.young_modulus / 1e9, t.young_modulus / 1e9),
@@ -163,7 +142,7 @@ mod tests {
 
     #[test]
     fn table5_lengths_match_paper() {
-        let l = TABLE5.length_scales();
+        let l = Material::table5().length_scales();
         assert!((l.d_min * 1e9 - 0.37).abs() < 0.01, "d_min {}", l.d_min);
         assert!((l.d_c * 1e9 - 1.7).abs() < 0.05, "d_c {}", l.d_c);
         assert!((l.d_star * 1e9 - 18.0).abs() < 1.0, "d* {}", l.d_star);
