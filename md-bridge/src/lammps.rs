@@ -212,73 +212,68 @@ impl Lammps {
         })
     }
 
+    /// Calls `method` for one number; LAMMPS answers None when the name is unknown (`missing` says
+    /// what that means here). Every failure is a [`MdError::Query`] for `what`.
+    fn call_f64<'py, A>(
+        &self,
+        py: Python<'py>,
+        method: &str,
+        args: A,
+        what: String,
+        missing: &str,
+    ) -> Result<f64>
+    where
+        A: pyo3::call::PyCallArgs<'py>,
+    {
+        let v = self.call(py, method, args, &what).map_err(as_query)?;
+        if v.is_none() {
+            return Err(MdError::Query {
+                query: what,
+                reason: missing.into(),
+            });
+        }
+        v.extract::<f64>().map_err(|e| MdError::Query {
+            query: what,
+            reason: py_err(py, e),
+        })
+    }
+
     /// Current value of a thermo keyword (`pe`, `press`, `pxx`, `density`...); valid after a run.
     pub fn thermo(&self, name: &str) -> Result<f64> {
-        let what = format!("thermo {name}");
         with_lammps(|py| {
-            let v = self
-                .call(py, "get_thermo", (name,), &what)
-                .map_err(as_query)?;
-            if v.is_none() {
-                return Err(MdError::Query {
-                    query: what,
-                    reason: "unknown thermo keyword".into(),
-                });
-            }
-            v.extract::<f64>().map_err(|e| MdError::Query {
-                query: what,
-                reason: py_err(py, e),
-            })
+            self.call_f64(
+                py,
+                "get_thermo",
+                (name,),
+                format!("thermo {name}"),
+                "unknown thermo keyword",
+            )
         })
     }
 
     /// Value of an equal-style variable (evaluated now).
     pub fn variable(&self, name: &str) -> Result<f64> {
-        let what = format!("variable {name}");
         with_lammps(|py| {
-            let v = self
-                .call(
-                    py,
-                    "extract_variable",
-                    (name, py.None(), LMP_VAR_EQUAL),
-                    &what,
-                )
-                .map_err(as_query)?;
-            if v.is_none() {
-                return Err(MdError::Query {
-                    query: what,
-                    reason: "no such equal-style variable".into(),
-                });
-            }
-            v.extract::<f64>().map_err(|e| MdError::Query {
-                query: what,
-                reason: py_err(py, e),
-            })
+            self.call_f64(
+                py,
+                "extract_variable",
+                (name, py.None(), LMP_VAR_EQUAL),
+                format!("variable {name}"),
+                "no such equal-style variable",
+            )
         })
     }
 
     /// Global scalar of a compute.
     pub fn compute_scalar(&self, id: &str) -> Result<f64> {
-        let what = format!("compute {id} scalar");
         with_lammps(|py| {
-            let v = self
-                .call(
-                    py,
-                    "extract_compute",
-                    (id, LMP_STYLE_GLOBAL, LMP_TYPE_SCALAR),
-                    &what,
-                )
-                .map_err(as_query)?;
-            if v.is_none() {
-                return Err(MdError::Query {
-                    query: what,
-                    reason: "no such compute or no global scalar".into(),
-                });
-            }
-            v.extract::<f64>().map_err(|e| MdError::Query {
-                query: what,
-                reason: py_err(py, e),
-            })
+            self.call_f64(
+                py,
+                "extract_compute",
+                (id, LMP_STYLE_GLOBAL, LMP_TYPE_SCALAR),
+                format!("compute {id} scalar"),
+                "no such compute or no global scalar",
+            )
         })
     }
 
@@ -332,30 +327,20 @@ impl Lammps {
     pub fn box_state(&self) -> Result<BoxState> {
         with_lammps(|py| {
             let b = self.call(py, "extract_box", (), "extract_box()")?;
-            let t: (Vec<f64>, Vec<f64>, f64, f64, f64) = (
-                b.get_item(0)
-                    .and_then(|x| x.extract())
-                    .map_err(|e| MdError::Python(py_err(py, e)))?,
-                b.get_item(1)
-                    .and_then(|x| x.extract())
-                    .map_err(|e| MdError::Python(py_err(py, e)))?,
-                b.get_item(2)
-                    .and_then(|x| x.extract())
-                    .map_err(|e| MdError::Python(py_err(py, e)))?,
-                b.get_item(3)
-                    .and_then(|x| x.extract())
-                    .map_err(|e| MdError::Python(py_err(py, e)))?,
-                b.get_item(4)
-                    .and_then(|x| x.extract())
-                    .map_err(|e| MdError::Python(py_err(py, e)))?,
-            );
-            let arr = |v: &[f64]| [v[0], v[1], v[2]];
             // extract_box returns (boxlo, boxhi, xy, yz, xz, ...): reorder tilts to xy, xz, yz.
-            Ok(BoxState {
-                lo: arr(&t.0),
-                hi: arr(&t.1),
-                tilt: [t.2, t.4, t.3],
-            })
+            let read = || -> PyResult<BoxState> {
+                let corner = |i: usize| -> PyResult<[f64; 3]> {
+                    let v: Vec<f64> = b.get_item(i)?.extract()?;
+                    Ok([v[0], v[1], v[2]])
+                };
+                let tilt = |i: usize| -> PyResult<f64> { b.get_item(i)?.extract() };
+                Ok(BoxState {
+                    lo: corner(0)?,
+                    hi: corner(1)?,
+                    tilt: [tilt(2)?, tilt(4)?, tilt(3)?],
+                })
+            };
+            read().map_err(|e| MdError::Python(py_err(py, e)))
         })
     }
 
