@@ -59,4 +59,16 @@ impl MdError {
             reason: reason.into(),
         }
     }
+
+    /// A [`MdError::Config`] of `what` naming the first of `fields` that is not a finite positive
+    /// number.
+    pub(crate) fn require_positive(what: &str, fields: &[(&str, f64)]) -> Result<()> {
+        match fields.iter().find(|(_, v)| !(v.is_finite() && *v > 0.0)) {
+            Some((n, v)) => Err(Self::config(
+                what,
+                format!("{n} must be a positive number, got {v}"),
+            )),
+            None => Ok(()),
+        }
+    }
 }

@@ -62,23 +62,19 @@ impl Default for JunctionConfig {
 
 impl JunctionConfig {
     pub fn validate(&self) -> Result<()> {
-        for (n, v) in [
-            ("width", self.width),
-            ("cutoff", self.cutoff),
-            ("length_factor", self.length_factor),
-            ("slab_factor", self.slab_factor),
-            ("temperature", self.temperature),
-            ("timestep", self.timestep),
-            ("velocity", self.velocity),
-            ("slide_factor", self.slide_factor),
-        ] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(MdError::config(
-                    "junction config",
-                    format!("{n} must be positive, got {v}"),
-                ));
-            }
-        }
+        MdError::require_positive(
+            "junction config",
+            &[
+                ("width", self.width),
+                ("cutoff", self.cutoff),
+                ("length_factor", self.length_factor),
+                ("slab_factor", self.slab_factor),
+                ("temperature", self.temperature),
+                ("timestep", self.timestep),
+                ("velocity", self.velocity),
+                ("slide_factor", self.slide_factor),
+            ],
+        )?;
         if self.length_factor < 1.5 || self.frames < 2 || self.width < 4.0 || self.cutoff < 1.2 {
             return Err(MdError::config(
                 "junction config",

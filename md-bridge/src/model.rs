@@ -56,22 +56,21 @@ impl Default for ModelConfig {
 
 impl ModelConfig {
     pub fn validate(&self) -> Result<()> {
+        MdError::require_positive(
+            "model config",
+            &[
+                ("cutoff", self.cutoff),
+                ("temperature", self.temperature),
+                ("timestep", self.timestep),
+                ("strain_rate", self.strain_rate),
+                ("elastic_strain", self.elastic_strain),
+                ("max_tensile_strain", self.max_tensile_strain),
+                ("max_shear_strain", self.max_shear_strain),
+                ("surface_vacuum", self.surface_vacuum),
+                ("sigma_nm", self.sigma_nm),
+            ],
+        )?;
         let bad = |m: String| Err(MdError::config("model config", m));
-        for (n, v) in [
-            ("cutoff", self.cutoff),
-            ("temperature", self.temperature),
-            ("timestep", self.timestep),
-            ("strain_rate", self.strain_rate),
-            ("elastic_strain", self.elastic_strain),
-            ("max_tensile_strain", self.max_tensile_strain),
-            ("max_shear_strain", self.max_shear_strain),
-            ("surface_vacuum", self.surface_vacuum),
-            ("sigma_nm", self.sigma_nm),
-        ] {
-            if !(v.is_finite() && v > 0.0) {
-                return bad(format!("{n} must be a positive number, got {v}"));
-            }
-        }
         if self.cutoff < 1.2 {
             return bad(format!(
                 "cutoff {} is inside the first neighbour shell (1.12)",
