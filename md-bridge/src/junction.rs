@@ -7,6 +7,7 @@
 
 use crate::error::{MdError, Result};
 use crate::lammps::Lammps;
+use crate::model::{lattice_commands, lattice_spacing, pair_commands};
 use crate::outcome::{classify, ClassifyParams, Verdict};
 use serde::{Deserialize, Serialize};
 
@@ -98,8 +99,7 @@ pub struct JunctionResult {
 /// Builds the two-slab geometry, shears it, classifies the outcome.
 pub fn run(lmp: &Lammps, cfg: &JunctionConfig) -> Result<JunctionResult> {
     cfg.validate()?;
-    let a = 2f64.powf(1.0 / 6.0);
-    let rho = 2.0 / (3f64.sqrt() * a * a);
+    let a = lattice_spacing();
     let d = cfg.width;
     let nx = (cfg.length_factor * d / a).round().max(4.0);
     let lx = nx * a;
@@ -112,12 +112,7 @@ pub fn run(lmp: &Lammps, cfg: &JunctionConfig) -> Result<JunctionResult> {
     let wall = 2.0 * row + 0.1;
     let s = cfg.seed % 900_000_000 + 1;
     lmp.commands(&format!(
-        "dimension 2
-units lj
-atom_style atomic
-atom_modify map array
-boundary p s p
-lattice hex {rho}
+        "{lattice}
 region box block 0 {lx} -0.25 {ytop} -0.5 0.5 units box
 create_box 1 box
 region lower block INF INF -0.25 {yb} INF INF units box
@@ -126,13 +121,7 @@ region upper block INF INF {yc} {ytop} INF INF units box
 create_atoms 1 region lower
 create_atoms 1 region junc
 create_atoms 1 region upper
-mass 1 1.0
-pair_style lj/cut {rc}
-pair_modify shift yes
-pair_coeff 1 1 1.0 1.0 {rc}
-neighbor 0.3 bin
-neigh_modify every 1 delay 0 check yes
-timestep {dt}
+{pair}
 region rbot block INF INF INF {wb} INF INF units box
 region rtop block INF INF {wt} INF INF INF units box
 region rbath block INF INF {wb} {bath} INF INF units box
@@ -142,11 +131,11 @@ group bath region rbath
 group junction region junc
 group mobile subtract all bot top
 variable ntop equal count(top)",
+        lattice = lattice_commands("p s p"),
+        pair = pair_commands(cfg.cutoff, cfg.timestep),
         ytop = y3 + 0.25,
         yb = y1 - 0.01,
         yc = y2 - 0.01,
-        rc = cfg.cutoff,
-        dt = cfg.timestep,
         wb = wall,
         wt = y3 - wall,
         bath = wall + 3.0 * row,

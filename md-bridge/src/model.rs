@@ -141,29 +141,49 @@ fn stress2(lmp: &Lammps) -> Result<[f64; 3]> {
     ])
 }
 
-/// Builds the relaxed crystal and measures everything.
-pub fn run(lmp: &Lammps, cfg: &ModelConfig) -> Result<ModelResult> {
-    cfg.validate()?;
-    // Hex lattice with the LJ pair minimum 2^(1/6) as nearest-neighbour distance.
-    let a = 2f64.powf(1.0 / 6.0);
+/// Nearest-neighbour distance of the model crystal (sigma): the LJ pair minimum 2^(1/6).
+pub(crate) fn lattice_spacing() -> f64 {
+    2f64.powf(1.0 / 6.0)
+}
+
+/// The model material's set-up before any atom exists: 2D, LJ units, atom map, LAMMPS `boundary`
+/// flags (e.g. `p p p`) and the hex lattice of [`lattice_spacing`].
+pub(crate) fn lattice_commands(boundary: &str) -> String {
+    let a = lattice_spacing();
     let rho = 2.0 / (3f64.sqrt() * a * a);
-    lmp.commands(&format!(
+    format!(
         "dimension 2
 units lj
 atom_style atomic
 atom_modify map array
-boundary p p p
-lattice hex {rho}
+boundary {boundary}
+lattice hex {rho}"
+    )
+}
+
+/// The model material's interaction once the atoms exist: unit mass, the LJ pair cut at `cutoff`
+/// and shifted to zero there, neighbour lists, and the time step.
+pub(crate) fn pair_commands(cutoff: f64, timestep: f64) -> String {
+    format!(
+        "mass 1 1.0
+pair_style lj/cut {cutoff}
+pair_modify shift yes
+pair_coeff 1 1 1.0 1.0 {cutoff}
+neighbor 0.3 bin
+neigh_modify every 1 delay 0 check yes
+timestep {timestep}"
+    )
+}
+
+/// Builds the relaxed crystal and measures everything.
+pub fn run(lmp: &Lammps, cfg: &ModelConfig) -> Result<ModelResult> {
+    cfg.validate()?;
+    lmp.commands(&format!(
+        "{lattice}
 region cell prism 0 {nx} 0 {ny} -0.5 0.5 0 0 0 units lattice
 create_box 1 cell
 create_atoms 1 box
-mass 1 1.0
-pair_style lj/cut {rc}
-pair_modify shift yes
-pair_coeff 1 1 1.0 1.0 {rc}
-neighbor 0.3 bin
-neigh_modify every 1 delay 0 check yes
-timestep {dt}
+{pair}
 thermo_style custom step temp pe press pxx pyy pxy lx ly
 thermo 0
 fix relax all box/relax x 0.0 y 0.0 xy 0.0 vmax 0.001
@@ -171,10 +191,10 @@ fix e2d all enforce2d
 minimize 0.0 1.0e-10 10000 100000
 unfix relax
 minimize 0.0 1.0e-10 10000 100000",
+        lattice = lattice_commands("p p p"),
         nx = cfg.cells[0],
         ny = cfg.cells[1],
-        rc = cfg.cutoff,
-        dt = cfg.timestep,
+        pair = pair_commands(cfg.cutoff, cfg.timestep),
     ))?;
     let r = Reference {
         cell: lmp.box_state()?,
