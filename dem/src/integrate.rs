@@ -9,7 +9,6 @@
 //! Global viscous damping (paper 000 eq 21, "a fraction of c_c"): a force -c v on every free particle,
 //! and a torque -c (I/m) omega, so that spin relaxes at the same rate as translation.
 
-use crate::force::Kin;
 use crate::state::Particles;
 use crate::Vec3;
 
@@ -39,50 +38,7 @@ impl StepSums {
     }
 }
 
-/// The state of a run of particles starting at `start`, and their kinematics records when the next
-/// force phase is to read them from here.
-struct Chunk<'a> {
-    start: usize,
-    x: &'a mut [Vec3],
-    v: &'a mut [Vec3],
-    w: &'a mut [Vec3],
-    kin: Option<&'a mut [Kin]>,
-}
-
-impl<'a> Chunk<'a> {
-    fn split_at(self, mid: usize) -> (Chunk<'a>, Chunk<'a>) {
-        let (x0, x1) = self.x.split_at_mut(mid);
-        let (v0, v1) = self.v.split_at_mut(mid);
-        let (w0, w1) = self.w.split_at_mut(mid);
-        let (k0, k1) = match self.kin {
-            Some(k) => {
-                let (a, b) = k.split_at_mut(mid);
-                (Some(a), Some(b))
-            }
-            None => (None, None),
-        };
-        (
-            Chunk {
-                start: self.start,
-                x: x0,
-                v: v0,
-                w: w0,
-                kin: k0,
-            },
-            Chunk {
-                start: self.start + mid,
-                x: x1,
-                v: v1,
-                w: w1,
-                kin: k1,
-            },
-        )
-    }
-}
-
-/// Advances free particles one step; when `kin` is given, also writes every particle's new state into
-/// it for the next force phase (one pass instead of two over the particles).
-#[allow(clippy::too_many_arguments)]
+/// Advances free particles one step.
 pub(crate) fn advance_free(
     parts: &mut Particles,
     force: &[Vec3],
@@ -90,7 +46,6 @@ pub(crate) fn advance_free(
     is_rigid: &[bool],
     damping: f64,
     dt: f64,
-    kin: Option<&mut [Kin]>,
     parallel: bool,
 ) -> StepSums {
     let Particles {
@@ -102,38 +57,26 @@ pub(crate) fn advance_free(
         ..
     } = parts;
     let (mass, inertia) = (&*mass, &*inertia);
-    let run = |c: Chunk| -> StepSums {
-        let Chunk {
-            start,
-            x,
-            v,
-            w,
-            mut kin,
-        } = c;
+    let run = |start: usize, x: &mut [Vec3], v: &mut [Vec3], w: &mut [Vec3]| -> StepSums {
         let (mut ke, mut pd, mut screen) = (0.0, 0.0, 0.0);
         for k in 0..x.len() {
             let i = start + k;
             let (m, inr) = (mass[i], inertia[i]);
             ke += 0.5 * (m * v[k].norm_squared() + inr * w[k].norm_squared());
-            if !is_rigid[i] {
-                let cw = damping * inr / m;
-                pd += damping * v[k].norm_squared() + cw * w[k].norm_squared();
-                let f = force[i] - damping * v[k];
-                let t = torque[i] - cw * w[k];
-                v[k] += f * (dt / m);
-                x[k] += v[k] * dt;
-                w[k] += t * (dt / inr);
+            if is_rigid[i] {
+                // Moved by the walls already: only screened.
+                screen += 0.0 * (x[k].sum() + v[k].sum() + w[k].sum());
+                continue;
             }
-            // Rigid particles were moved by the walls already: only screened (and recorded). Zero
-            // times the state is zero unless some component is infinite or NaN.
+            let cw = damping * inr / m;
+            pd += damping * v[k].norm_squared() + cw * w[k].norm_squared();
+            let f = force[i] - damping * v[k];
+            let t = torque[i] - cw * w[k];
+            v[k] += f * (dt / m);
+            x[k] += v[k] * dt;
+            w[k] += t * (dt / inr);
+            // Zero times the state is zero unless some component is infinite or NaN.
             screen += 0.0 * (x[k].sum() + v[k].sum() + w[k].sum());
-            if let Some(kin) = kin.as_deref_mut() {
-                kin[k] = Kin {
-                    x: x[k],
-                    v: v[k],
-                    w: w[k],
-                };
-            }
         }
         StepSums {
             kinetic: ke,
@@ -141,32 +84,40 @@ pub(crate) fn advance_free(
             finite: screen.is_finite(),
         }
     };
-    let all = Chunk {
-        start: 0,
-        x: pos,
-        v: vel,
-        w: omega,
-        kin,
-    };
-    tree(all, &run, parallel)
+    tree(0, pos, vel, omega, &run, parallel)
 }
 
 /// Runs `run` on chunks of `CHUNK` particles, halving the range (rayon::join when `parallel`) and
 /// combining the sums along the same fixed tree on any thread count: deterministic totals, and no
 /// per-step allocation.
-fn tree<R>(c: Chunk, run: &R, parallel: bool) -> StepSums
+fn tree<R>(
+    start: usize,
+    x: &mut [Vec3],
+    v: &mut [Vec3],
+    w: &mut [Vec3],
+    run: &R,
+    parallel: bool,
+) -> StepSums
 where
-    R: Fn(Chunk) -> StepSums + Sync,
+    R: Fn(usize, &mut [Vec3], &mut [Vec3], &mut [Vec3]) -> StepSums + Sync,
 {
-    if c.x.len() <= CHUNK {
-        return run(c);
+    if x.len() <= CHUNK {
+        return run(start, x, v, w);
     }
-    let mid = c.x.len().div_ceil(CHUNK) / 2 * CHUNK;
-    let (c0, c1) = c.split_at(mid);
+    let mid = x.len().div_ceil(CHUNK) / 2 * CHUNK;
+    let (x0, x1) = x.split_at_mut(mid);
+    let (v0, v1) = v.split_at_mut(mid);
+    let (w0, w1) = w.split_at_mut(mid);
     let (a, b) = if parallel {
-        rayon::join(|| tree(c0, run, true), || tree(c1, run, true))
+        rayon::join(
+            || tree(start, x0, v0, w0, run, true),
+            || tree(start + mid, x1, v1, w1, run, true),
+        )
     } else {
-        (tree(c0, run, false), tree(c1, run, false))
+        (
+            tree(start, x0, v0, w0, run, false),
+            tree(start + mid, x1, v1, w1, run, false),
+        )
     };
     a.then(&b)
 }
@@ -182,16 +133,7 @@ mod tests {
         let torque = vec![Vec3::new(0.0, 0.0, 5.0)];
         let dt = 1e-3;
         for _ in 0..1000 {
-            advance_free(
-                &mut p,
-                &[Vec3::zeros()],
-                &torque,
-                &[false],
-                0.0,
-                dt,
-                None,
-                false,
-            );
+            advance_free(&mut p, &[Vec3::zeros()], &torque, &[false], 0.0, dt, false);
         }
         let expect = 5.0 / p.inertia[0] * 1.0;
         assert!(
@@ -207,16 +149,7 @@ mod tests {
         p.push_sphere(Vec3::zeros(), 1.0, 1.0);
         let m = p.mass[0];
         let f = vec![Vec3::new(m, 0.0, 0.0)];
-        advance_free(
-            &mut p,
-            &f,
-            &[Vec3::zeros()],
-            &[false],
-            0.0,
-            0.5,
-            None,
-            false,
-        );
+        advance_free(&mut p, &f, &[Vec3::zeros()], &[false], 0.0, 0.5, false);
         // v1 = 0.5, x1 = v1 dt = 0.25 (the new velocity moves the particle).
         assert!((p.vel[0].x - 0.5).abs() < 1e-15 && (p.pos[0].x - 0.25).abs() < 1e-15);
     }

@@ -352,35 +352,24 @@ impl Simulation {
 
     /// Advances `n` steps.
     pub fn run(&mut self, n: u64) -> Result<()> {
-        // The caller may have changed the particles since the last step (or a run that failed).
-        self.buffers.forget_kinematics();
-        for k in 0..n {
-            // Inside a run nothing outside the engine touches the particles between steps, so each
-            // step's integrator may hand its state straight to the next force phase.
-            self.step_checked(k + 1 < n)?;
+        for _ in 0..n {
+            self.step()?;
         }
         Ok(())
     }
 
     /// One step of the pipeline.
     pub fn step(&mut self) -> Result<()> {
-        self.buffers.forget_kinematics();
-        self.step_checked(false)
-    }
-
-    /// One step, refused when an interrupt is pending; `more` says another step of the same run
-    /// follows.
-    fn step_checked(&mut self, more: bool) -> Result<()> {
         if crate::interrupt::requested() {
             return Err(DemError::Interrupted { step: self.step });
         }
         match self.pool.clone() {
-            Some(pool) => pool.install(|| self.step_inner(true, more)),
-            None => self.step_inner(false, more),
+            Some(pool) => pool.install(|| self.step_inner(true)),
+            None => self.step_inner(false),
         }
     }
 
-    fn step_inner(&mut self, parallel: bool, more: bool) -> Result<()> {
+    fn step_inner(&mut self, parallel: bool) -> Result<()> {
         let _step = tracing::trace_span!("step", n = self.step).entered();
         {
             let _s = tracing::trace_span!("neighbor").entered();
@@ -394,7 +383,6 @@ impl Simulation {
                     &self.sim_box,
                     &self.coef,
                 )?;
-                self.buffers.forget_kinematics();
             }
         }
         let stress_control = matches!(self.box_control, BoxControl::Stress { .. });
@@ -427,19 +415,13 @@ impl Simulation {
         };
         let sums = {
             let _s = tracing::trace_span!("integrate").entered();
-            // A box that moves remaps the positions after the integrator: then the next force phase
-            // copies the state itself.
-            let keep = more && matches!(self.box_control, BoxControl::Fixed);
-            let n = self.particles.len();
-            let (force, torque, kin) = self.buffers.integrator_view(n, keep);
             advance_free(
                 &mut self.particles,
-                force,
-                torque,
+                &self.buffers.force,
+                &self.buffers.torque,
                 &self.rigid.is_rigid,
                 self.damping_coef,
                 self.dt,
-                kin,
                 parallel,
             )
         };

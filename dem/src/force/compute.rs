@@ -33,9 +33,6 @@ pub(crate) struct ForceBuffers {
     /// Per-particle virial sum_j 1/2 (x_i - x_j) (x) F_ij (filled when requested).
     pub virial: Vec<Matrix3<f64>>,
     kin: Vec<Kin>,
-    /// `kin` already holds the particles' current kinematics: the integrator of the previous step wrote
-    /// it and nothing has moved a particle since (see [`ForceBuffers::integrator_view`]).
-    kin_current: bool,
     /// Per-pair constants, parallel to the neighbour list.
     consts: PairConstArrays,
     /// Per-pair periodic image as an index into the step's table of 27 shifts (see [`image_code`]):
@@ -89,9 +86,9 @@ pub(crate) struct ForcePhase {
 /// Kinematics of one particle, gathered once per step so that a pair reads its partner from one place.
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct Kin {
-    pub x: Vec3,
-    pub v: Vec3,
-    pub w: Vec3,
+    x: Vec3,
+    v: Vec3,
+    w: Vec3,
 }
 
 /// The read-only pair arrays of the neighbour list, and the particle count.
@@ -228,6 +225,9 @@ impl<'a> Span<'a> {
         // loads for the sums.
         let mut local = [(0usize, 0usize); LANES];
         let mut p = p0;
+        // The first particle's terms are summed in registers along its row (consecutive pairs) and
+        // added to its sum once per row: no store-to-load chain through memory per pair.
+        let (mut row, mut fi, mut ti) = (usize::MAX, Vec3::zeros(), Vec3::zeros());
         while p < p1 {
             let len = (p1 - p).min(LANES);
             for l in 0..len {
@@ -254,8 +254,16 @@ impl<'a> Span<'a> {
                 let v3 = |a: &[[f64; LANES]; 3]| Vec3::new(a[0][l], a[1][l], a[2][l]);
                 let (fp, tip, tjp) = (v3(&lanes.f), v3(&lanes.ti), v3(&lanes.tj));
                 let direct = j < owned;
-                f[i] += fp;
-                t[i] += tip;
+                if i != row {
+                    if row != usize::MAX {
+                        f[row] += fi;
+                        t[row] += ti;
+                    }
+                    (row, fi, ti) = (i, fp, tip);
+                } else {
+                    fi += fp;
+                    ti += tip;
+                }
                 if direct {
                     f[j] -= fp;
                     t[j] += tjp;
@@ -277,6 +285,10 @@ impl<'a> Span<'a> {
                 }
             }
             p += len;
+        }
+        if row != usize::MAX {
+            f[row] += fi;
+            t[row] += ti;
         }
         totals
     }
@@ -315,29 +327,6 @@ fn shift_table(bx: &SimBox) -> [Vec3; 27] {
 }
 
 impl ForceBuffers {
-    /// The forces and torques of the last evaluation, and the kinematics record for the integrator to
-    /// fill with the state it writes, which saves the next force phase a pass over the particles.
-    /// `keep` says whether the caller vouches that nothing moves a particle before that phase (no
-    /// neighbour rebuild, which wraps positions, no box remap, no user access between steps); the
-    /// record is `None` otherwise.
-    pub fn integrator_view(
-        &mut self,
-        n: usize,
-        keep: bool,
-    ) -> (&[Vec3], &[Vec3], Option<&mut [Kin]>) {
-        self.kin_current = keep;
-        let kin = keep.then(|| {
-            self.kin.resize(n, Kin::default());
-            &mut self.kin[..]
-        });
-        (&self.force, &self.torque, kin)
-    }
-
-    /// Forgets the kinematics the integrator left (a neighbour rebuild wrapped the positions).
-    pub fn forget_kinematics(&mut self) {
-        self.kin_current = false;
-    }
-
     /// Marks the per-pair constants stale (after a change of particles, model or groups).
     pub fn invalidate(&mut self) {
         self.built_for = None;
@@ -393,27 +382,22 @@ impl ForceBuffers {
         }
         self.refresh(coef, parts, list);
         let mut kin = std::mem::take(&mut self.kin);
-        if !(self.kin_current && kin.len() == n) {
-            let _s = tracing::trace_span!("kinematics").entered();
-            kin.resize(n, Kin::default());
-            let fill = |(c, ks): (usize, &mut [Kin])| {
-                for (k, slot) in ks.iter_mut().enumerate() {
-                    let i = c * BLOCK + k;
-                    *slot = Kin {
-                        x: parts.pos[i],
-                        v: parts.vel[i],
-                        w: parts.omega[i],
-                    };
-                }
-            };
-            if phase.parallel {
-                kin.par_chunks_mut(BLOCK).enumerate().for_each(fill);
-            } else {
-                kin.chunks_mut(BLOCK).enumerate().for_each(fill);
+        kin.resize(n, Kin::default());
+        let fill = |(c, ks): (usize, &mut [Kin])| {
+            for (k, slot) in ks.iter_mut().enumerate() {
+                let i = c * BLOCK + k;
+                *slot = Kin {
+                    x: parts.pos[i],
+                    v: parts.vel[i],
+                    w: parts.omega[i],
+                };
             }
+        };
+        if phase.parallel {
+            kin.par_chunks_mut(BLOCK).enumerate().for_each(fill);
+        } else {
+            kin.chunks_mut(BLOCK).enumerate().for_each(fill);
         }
-        // Used once: whatever runs before the next force phase may move particles.
-        self.kin_current = false;
         let consts = std::mem::take(&mut self.consts);
         let ctx = Ctx {
             kin: &kin,

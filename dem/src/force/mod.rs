@@ -14,4 +14,4 @@ mod compute;
 mod pair_consts;
 
 pub use cohesive::{normal_energy, normal_force, tangential_cap};
-pub(crate) use compute::{ForceBuffers, ForcePhase, Kin};
+pub(crate) use compute::{ForceBuffers, ForcePhase};
