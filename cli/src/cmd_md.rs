@@ -337,8 +337,8 @@ fn card(r: &SilicaResult, rec: &JobRecord, cfg: &SilicaConfig) -> Option<Materia
                     cfg.strength_temperature, cfg.strain_rate
                 ),
                 format!(
-                    "surface energy: cleaved along z, annealed {} ps at {} K, minimised; the bulk reference annealed and minimised alike",
-                    cfg.surface_anneal_ps, cfg.surface_anneal_temperature
+                    "surface energy: glass replicated {:?} (x, y, z), cleaved along z, annealed {} ps at {} K, minimised; the bulk reference replicated, annealed and minimised alike",
+                    cfg.surface_replicate, cfg.surface_anneal_ps, cfg.surface_anneal_temperature
                 ),
             ],
         },
