@@ -146,10 +146,24 @@ fn hcp_shear_strength_flat_in_d0_for_s_0() {
 #[test]
 fn hcp_shear_strength_falls_with_d0_for_s_half() {
     let (values, ratios) = strength_vs_d0(0.5, StrengthMode::Shear);
-    // The trend of eq (20): monotone decrease above d_c. It is slower than the target's (x0.54 from 2.4
-    // to 19.2 d_c against x0.35), so the ratio grows: the tangential cap F_mT does not scale with s, only
-    // the normal bonds do (docs/patch-tests.md).
-    assert!(values.windows(2).all(|w| w[1] < w[0]), "{values:?}");
+    // The trend of eq (20): a decrease above d_c, slower than the target's (x0.58 from 2.4 to 19.2 d_c
+    // against x0.35), so the ratio grows: the tangential cap F_mT does not scale with s, only the normal
+    // bonds do (docs/patch-tests.md). The trend is asserted as the power-law slope over the three sizes
+    // above d_c (target -0.5), not point by point: the shear peak of a perfect lattice is reached when
+    // slip nucleates from round-off alone, and a mere change of summation order (bit-level, the same
+    // physics) moved the 9.6 d_c point between 0.063 and 0.073 while the slope stayed -0.27 to -0.28.
+    let (x, y): (Vec<f64>, Vec<f64>) = [2.4f64, 9.6, 19.2]
+        .iter()
+        .zip(&values[1..])
+        .map(|(d, v)| (d.ln(), v.ln()))
+        .unzip();
+    let (mx, my) = (x.iter().sum::<f64>() / 3.0, y.iter().sum::<f64>() / 3.0);
+    let sxy: f64 = x.iter().zip(&y).map(|(a, b)| (a - mx) * (b - my)).sum();
+    let sxx: f64 = x.iter().map(|a| (a - mx) * (a - mx)).sum();
+    let slope = sxy / sxx;
+    println!("power-law slope above d_c: {slope:.3}");
+    assert!(slope < -0.15 && slope > -0.5, "slope {slope}: {values:?}");
+    assert!(values[1] < values[0], "{values:?}");
     assert!(values[3] < 0.7 * values[1], "{values:?}");
     assert!(ratios[3] < 3.5, "{ratios:?}");
 }
