@@ -92,7 +92,17 @@ impl NeighborList {
     /// reverse index holding each pair once under its second particle. Returns what is wrong.
     pub fn check(&self, n: usize) -> std::result::Result<(), String> {
         let np = self.len();
-        if self.j.len() != np || self.image.len() != np || self.hist.len() != np {
+        let h = &self.hist;
+        if [
+            self.j.len(),
+            self.image.len(),
+            h.x.len(),
+            h.y.len(),
+            h.z.len(),
+        ]
+        .iter()
+        .any(|&len| len != np)
+        {
             return Err("pair arrays of different lengths".into());
         }
         let rows_ok = self.row_start.len() == n + 1

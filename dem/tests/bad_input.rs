@@ -146,14 +146,15 @@ fn damaged_checkpoint_neighbour_list_is_refused() {
     );
     // The intact file resumes; each damage is a format error naming the list, not a panic later.
     assert!(Simulation::load_checkpoint(&path, Parallelism::Sequential).is_ok());
-    let damages: [(&str, serde_json::Value); 3] = [
-        ("j", serde_json::json!([5])),
-        ("image", serde_json::json!([[2, 0, 0]])),
-        ("rev_pair", serde_json::json!([3])),
+    let damages: [(&str, serde_json::Value); 4] = [
+        ("/list/j", serde_json::json!([5])),
+        ("/list/image", serde_json::json!([[2, 0, 0]])),
+        ("/list/rev_pair", serde_json::json!([3])),
+        ("/list/hist/y", serde_json::json!([])),
     ];
     for (field, value) in damages {
         let mut bad = good.clone();
-        bad["list"][field] = value;
+        *bad.pointer_mut(field).unwrap() = value;
         std::fs::write(&path, serde_json::to_vec(&bad).unwrap()).unwrap();
         let e = Simulation::load_checkpoint(&path, Parallelism::Sequential).unwrap_err();
         assert!(

@@ -173,10 +173,11 @@ impl Batch {
         let dist2 = d.norm_squared();
         let inside = dist2 < self.k.reach2[l];
         let dist = dist2.sqrt();
-        // The separation one step earlier, exactly d + dv dt in symplectic Euler; with the history on,
-        // n and n_prev share one division (1 / (|d| |d_prev|)), the slowest vector instruction here.
-        let d_prev = d + dv * dt;
+        // With the history on, the separation one step earlier is needed too (exactly d + dv dt in
+        // symplectic Euler), and n and n_prev share one division (1 / (|d| |d_prev|)), the slowest
+        // vector instruction here.
         let (n, n_prev, dist_prev) = if TANGENTIAL {
+            let d_prev = d + dv * dt;
             let dist_prev = d_prev.norm();
             let inv = 1.0 / (dist * dist_prev);
             (d * (dist_prev * inv), d_prev * (dist * inv), dist_prev)
@@ -200,10 +201,13 @@ impl Batch {
         let mut f = (fn_ + c_n * vn) * n;
         let mut damping_power = c_n * vn * vn;
         let mut h = Vec3::zeros();
-        let (mut e_t, slid) = (0.0, 0.0);
+        let mut e_t = 0.0;
         if TANGENTIAL {
             // Slip over the step that just moved the particles by v dt, in the midpoint geometry (see
-            // the module docs).
+            // the module docs). The normal turns by a tiny angle theta per step; with
+            // e = 1 - cos(theta) ~ theta^2 / 2, the midpoint normal's 1/|n + n_prev| =
+            // (1/2)(1 - e/2)^(-1/2) and 1/(1 + cos) = 1/(2 - e) are taken as series (remainder O(e^3),
+            // below 1e-9 even for a 0.05 rad step).
             let cos = n.dot(&n_prev);
             let e = 1.0 - cos;
             let m = (n + n_prev) * (0.5 * (1.0 + e * (0.25 + 0.09375 * e)));
@@ -266,7 +270,8 @@ impl Batch {
             self.e_normal[l] = if inside { normal } else { 0.0 };
             self.e_tangential[l] = if inside { e_t } else { 0.0 };
             self.damping_power[l] = if inside { damping_power } else { 0.0 };
-            self.slid[l] = if inside { slid } else { 0.0 };
+            // Energy released by sliding: set by `slide` for the lanes that slide.
+            self.slid[l] = 0.0;
         }
     }
 
