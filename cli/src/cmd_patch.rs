@@ -2,8 +2,10 @@
 //! `cgdem sample <config.toml>`: make and save one sample (HCP or relaxed amorphous) for reuse.
 //!
 //! The TOML of `patch` is [`dem::scenario::patch::PatchSuite`]; results go to `--out` (default
-//! `out/patch`): `report.json` and one CSV stress-strain curve per test and case. The TOML of `sample`
-//! is [`SampleConfig`].
+//! `out/patch`): `report.json` (rewritten after every case) and one CSV stress-strain curve per test
+//! and case. Rerunning the same campaign into the same directory continues it: finished cases are
+//! reused (Ctrl-C or a crash loses at most the case in progress); another campaign's report there is
+//! refused, not overwritten. The TOML of `sample` is [`SampleConfig`].
 
 use std::path::PathBuf;
 

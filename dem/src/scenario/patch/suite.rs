@@ -237,11 +237,34 @@ pub fn run_suite(suite: &PatchSuite, out: Option<&Path>, par: Parallelism) -> Re
     } else {
         suite.sweep.d0_over_dc.iter().map(|&v| Some(v)).collect()
     };
+    let (done, report_path) = match out {
+        Some(dir) => (
+            finished_cases(dir, suite)?,
+            dir.join("report.json").display().to_string(),
+        ),
+        None => (Vec::new(), String::new()),
+    };
+    if !done.is_empty() {
+        tracing::info!(
+            cases = done.len(),
+            "continuing the campaign of {report_path}: its finished cases are reused"
+        );
+    }
     let mut cases = Vec::new();
     for d0 in &d0s {
         for &s in &or_base(&suite.sweep.scaling, suite.material.scaling) {
             for &nu in &or_base(&suite.sweep.poisson_ratio, suite.material.poisson_ratio) {
                 let k = cases.len();
+                if let Some(c) = done.get(k) {
+                    if (c.d0_over_dc, c.poisson_ratio, c.scaling) != (*d0, nu, s) {
+                        return Err(DemError::Format {
+                            path: report_path,
+                            reason: format!("its case {k} is not the campaign's case {k}"),
+                        });
+                    }
+                    cases.push(c.clone());
+                    continue;
+                }
                 let mut model = PairModel::cohesive(Material {
                     poisson_ratio: nu,
                     scaling: s,
@@ -308,6 +331,35 @@ pub fn run_suite(suite: &PatchSuite, out: Option<&Path>, par: Parallelism) -> Re
         config: suite.clone(),
         cases,
     })
+}
+
+/// The finished cases of an earlier run of the same campaign in `dir` (its `report.json`, rewritten
+/// after every case), so that an interrupted campaign continues where it stopped: cases run in a
+/// fixed order, so the first `n` are done. A report of another campaign is refused, not overwritten.
+fn finished_cases(dir: &Path, suite: &PatchSuite) -> Result<Vec<PatchCase>> {
+    let path = dir.join("report.json");
+    let bytes = match std::fs::read(&path) {
+        Ok(b) => b,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(source) => {
+            return Err(DemError::Io {
+                path: path.display().to_string(),
+                source,
+            })
+        }
+    };
+    let report: PatchReport = serde_json::from_slice(&bytes).map_err(|e| DemError::Format {
+        path: path.display().to_string(),
+        reason: format!("{e} (remove it to start the campaign afresh)"),
+    })?;
+    if report.config != *suite {
+        return Err(DemError::InvalidConfig(format!(
+            "{} holds the results of another campaign; choose another output directory, or \
+             remove the file to overwrite them",
+            path.display()
+        )));
+    }
+    Ok(report.cases)
 }
 
 fn write_case_curves(dir: &Path, k: usize, case: &PatchCase) -> Result<()> {
