@@ -250,10 +250,15 @@ pub fn run_suite(suite: &PatchSuite, out: Option<&Path>, par: Parallelism) -> Re
             "continuing the campaign of {report_path}: its finished cases are reused"
         );
     }
+    let (scalings, nus) = (
+        or_base(&suite.sweep.scaling, suite.material.scaling),
+        or_base(&suite.sweep.poisson_ratio, suite.material.poisson_ratio),
+    );
+    let total = d0s.len() * scalings.len() * nus.len();
     let mut cases = Vec::new();
     for d0 in &d0s {
-        for &s in &or_base(&suite.sweep.scaling, suite.material.scaling) {
-            for &nu in &or_base(&suite.sweep.poisson_ratio, suite.material.poisson_ratio) {
+        for &s in &scalings {
+            for &nu in &nus {
                 let k = cases.len();
                 if let Some(c) = done.get(k) {
                     if (c.d0_over_dc, c.poisson_ratio, c.scaling) != (*d0, nu, s) {
@@ -276,7 +281,7 @@ pub fn run_suite(suite: &PatchSuite, out: Option<&Path>, par: Parallelism) -> Re
                     Some(v) if base_d0.is_some() => with_d0(&suite.sample, *v)?,
                     _ => suite.sample.clone(),
                 };
-                tracing::info!(case = k, d0_over_dc = ?d0, nu, s, "patch case");
+                tracing::info!(case = k, of = total, d0_over_dc = ?d0, nu, s, "patch case");
                 let t = std::time::Instant::now();
                 let sample = make_sample(&spec, &model, &suite.relax, par)?;
                 let sample_seconds = t.elapsed().as_secs_f64();
