@@ -42,6 +42,36 @@ pub struct BenchArgs {
     /// Append the results to this CSV file.
     #[arg(long)]
     csv: Option<PathBuf>,
+    /// Rounds of the whole comparison, run one after the other; with more than one, the median and
+    /// range of every figure are printed at the end (single runs vary by ~10 % on a shared machine).
+    #[arg(long, default_value_t = 1)]
+    repeats: usize,
+}
+
+/// One round's figures: rates in particle-steps per second, ratios against the 1-thread rate.
+#[derive(Debug, Default)]
+struct Round {
+    one_thread: Option<f64>,
+    /// (threads, rate / 1-thread rate) for each thread count above 1.
+    speedups: Vec<(usize, f64)>,
+    ceiling: Option<f64>,
+    lammps: Option<f64>,
+}
+
+/// Median and range of one figure over the rounds that have it.
+fn spread(values: impl Iterator<Item = f64>) -> Option<(f64, f64, f64)> {
+    let mut v: Vec<f64> = values.collect();
+    if v.is_empty() {
+        return None;
+    }
+    v.sort_by(f64::total_cmp);
+    let m = v.len() / 2;
+    let median = if v.len() % 2 == 1 {
+        v[m]
+    } else {
+        0.5 * (v[m - 1] + v[m])
+    };
+    Some((median, v[0], v[v.len() - 1]))
 }
 
 /// Sphere diameter (lattice spacing): 0.6 d_c for Table 4, so delta_f = d/3 reaches neither the
@@ -197,50 +227,22 @@ fn time_lammps(input: &Path, steps: u64) -> Result<(f64, usize)> {
 }
 
 pub fn run(args: BenchArgs) -> Result<()> {
-    let mut rows = Vec::new();
-    let mut dt_used = 0.0;
-    let mut one_thread = None;
+    if args.repeats == 0 {
+        bail!("--repeats must be at least 1");
+    }
     println!("cgdem bench: periodic HCP packing, 12 contacts per sphere, cohesive force with tangential history");
-    for &t in &args.threads {
-        let (secs, n, pairs, dt) = time_cgdem(t, args.steps, args.cells)?;
-        if pairs != 6 * n {
-            bail!("packing check failed: {pairs} pairs for {n} spheres, expected exactly 6 per sphere");
+    let dir = std::env::temp_dir().join(format!("cgdem-bench-{}", std::process::id()));
+    let mut rows = Vec::new();
+    let mut rounds = Vec::new();
+    for k in 0..args.repeats {
+        if args.repeats > 1 {
+            println!("round {} of {}", k + 1, args.repeats);
         }
-        dt_used = dt;
-        let rate = n as f64 * args.steps as f64 / secs;
-        if t <= 1 {
-            one_thread = Some(rate);
-        }
-        let speedup = one_thread
-            .filter(|_| t > 1)
-            .map(|r1| format!("  speed-up {:.2}x", rate / r1))
-            .unwrap_or_default();
-        println!("cgdem   {t} thread(s): {n} spheres x {} steps in {secs:.3} s = {:.3e} particle-steps/s{speedup}", args.steps, rate);
-        rows.push((format!("cgdem-{t}t"), n, secs, rate));
+        rounds.push(round(&args, &dir, &mut rows)?);
     }
-    let copies = args.threads.iter().copied().max().unwrap_or(1);
-    if copies > 1 && !args.no_ceiling {
-        let (secs, n) = time_copies(copies, args.steps, args.cells)?;
-        let rate = (copies * n) as f64 * args.steps as f64 / secs;
-        let ceiling = one_thread
-            .map(|r1| format!("  machine ceiling {:.2}x", rate / r1))
-            .unwrap_or_default();
-        println!("cgdem   {copies} independent 1-thread copies side by side: {:.3e} particle-steps/s in all{ceiling}", rate);
-        rows.push((format!("cgdem-{copies}x1t"), copies * n, secs, rate));
-    }
-    if !args.no_lammps {
-        let dir = std::env::temp_dir().join(format!("cgdem-bench-{}", std::process::id()));
-        let input = write_lammps_inputs(&dir, args.cells, args.steps, dt_used)?;
-        let (secs, n) = time_lammps(&input, args.steps)?;
-        let rate = n as f64 * args.steps as f64 / secs;
-        println!("LAMMPS  1 process : {n} spheres x {} steps in {secs:.3} s = {rate:.3e} particle-steps/s (gran/hooke/history, nve/sphere)", args.steps);
-        if let Some(r1) = one_thread {
-            println!("ratio cgdem/LAMMPS per core: {:.2}x", r1 / rate);
-        }
-        rows.push(("lammps-1p".into(), n, secs, rate));
-        std::fs::remove_dir_all(&dir).ok();
-    } else {
-        println!("(LAMMPS comparison skipped)");
+    std::fs::remove_dir_all(&dir).ok();
+    if args.repeats > 1 {
+        summarise(&rounds);
     }
     if let Some(path) = &args.csv {
         let new = !path.exists();
@@ -256,4 +258,114 @@ pub fn run(args: BenchArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// One round of the comparison: cgdem at each thread count, the machine ceiling, LAMMPS.
+fn round(args: &BenchArgs, dir: &Path, rows: &mut Vec<(String, usize, f64, f64)>) -> Result<Round> {
+    let mut r = Round::default();
+    let mut dt_used = 0.0;
+    for &t in &args.threads {
+        let (secs, n, pairs, dt) = time_cgdem(t, args.steps, args.cells)?;
+        if pairs != 6 * n {
+            bail!("packing check failed: {pairs} pairs for {n} spheres, expected exactly 6 per sphere");
+        }
+        dt_used = dt;
+        let rate = n as f64 * args.steps as f64 / secs;
+        if t <= 1 {
+            r.one_thread = Some(rate);
+        }
+        let speedup = r.one_thread.filter(|_| t > 1).map(|r1| rate / r1);
+        if let Some(x) = speedup {
+            r.speedups.push((t, x));
+        }
+        let speedup = speedup
+            .map(|x| format!("  speed-up {x:.2}x"))
+            .unwrap_or_default();
+        println!("cgdem   {t} thread(s): {n} spheres x {} steps in {secs:.3} s = {:.3e} particle-steps/s{speedup}", args.steps, rate);
+        rows.push((format!("cgdem-{t}t"), n, secs, rate));
+    }
+    let copies = args.threads.iter().copied().max().unwrap_or(1);
+    if copies > 1 && !args.no_ceiling {
+        let (secs, n) = time_copies(copies, args.steps, args.cells)?;
+        let rate = (copies * n) as f64 * args.steps as f64 / secs;
+        r.ceiling = r.one_thread.map(|r1| rate / r1);
+        let ceiling = r
+            .ceiling
+            .map(|x| format!("  machine ceiling {x:.2}x"))
+            .unwrap_or_default();
+        println!("cgdem   {copies} independent 1-thread copies side by side: {:.3e} particle-steps/s in all{ceiling}", rate);
+        rows.push((format!("cgdem-{copies}x1t"), copies * n, secs, rate));
+    }
+    if !args.no_lammps {
+        let input = write_lammps_inputs(dir, args.cells, args.steps, dt_used)?;
+        let (secs, n) = time_lammps(&input, args.steps)?;
+        let rate = n as f64 * args.steps as f64 / secs;
+        println!("LAMMPS  1 process : {n} spheres x {} steps in {secs:.3} s = {rate:.3e} particle-steps/s (gran/hooke/history, nve/sphere)", args.steps);
+        if let Some(r1) = r.one_thread {
+            println!("ratio cgdem/LAMMPS per core: {:.2}x", r1 / rate);
+        }
+        r.lammps = Some(rate);
+        rows.push(("lammps-1p".into(), n, secs, rate));
+    } else {
+        println!("(LAMMPS comparison skipped)");
+    }
+    Ok(r)
+}
+
+/// Prints the median and range of every figure over the rounds.
+fn summarise(rounds: &[Round]) {
+    println!("over {} rounds: median (min - max)", rounds.len());
+    let show = |label: &str, v: Option<(f64, f64, f64)>, fmt: fn(f64) -> String| {
+        if let Some((m, lo, hi)) = v {
+            println!("  {label}: {} ({} - {})", fmt(m), fmt(lo), fmt(hi));
+        }
+    };
+    let rate = |x: f64| format!("{x:.3e}");
+    let ratio = |x: f64| format!("{x:.2}x");
+    show(
+        "cgdem 1 thread, particle-steps/s",
+        spread(rounds.iter().filter_map(|r| r.one_thread)),
+        rate,
+    );
+    let mut threads: Vec<usize> = rounds
+        .iter()
+        .flat_map(|r| r.speedups.iter().map(|s| s.0))
+        .collect();
+    threads.sort_unstable();
+    threads.dedup();
+    for t in threads {
+        let v = rounds
+            .iter()
+            .flat_map(|r| r.speedups.iter().filter(|s| s.0 == t).map(|s| s.1));
+        show(&format!("speed-up at {t} threads"), spread(v), ratio);
+    }
+    show(
+        "machine ceiling",
+        spread(rounds.iter().filter_map(|r| r.ceiling)),
+        ratio,
+    );
+    show(
+        "LAMMPS 1 process, particle-steps/s",
+        spread(rounds.iter().filter_map(|r| r.lammps)),
+        rate,
+    );
+    let per_core = rounds
+        .iter()
+        .filter_map(|r| Some(r.one_thread? / r.lammps?));
+    show("ratio cgdem/LAMMPS per core", spread(per_core), ratio);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::spread;
+
+    #[test]
+    fn spread_is_median_min_max() {
+        assert_eq!(spread([3.0, 1.0, 2.0].into_iter()), Some((2.0, 1.0, 3.0)));
+        assert_eq!(
+            spread([4.0, 1.0, 2.0, 3.0].into_iter()),
+            Some((2.5, 1.0, 4.0))
+        );
+        assert_eq!(spread(std::iter::empty()), None);
+    }
 }

