@@ -9,7 +9,7 @@ use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use common::*;
-use dem::scenario::patch::{run_suite, PatchReport, PatchSuite};
+use dem::scenario::patch::{run_suite, PatchReport};
 use dem::{DemError, Material, PairModel, Parallelism, RunConfig};
 
 /// The interrupt flag is process-wide: one test at a time may set it.
@@ -55,27 +55,7 @@ fn an_interrupted_campaign_keeps_its_finished_cases_and_continues() {
     let _turn = FLAG.lock().unwrap_or_else(|e| e.into_inner());
     // Two HCP cases with an elastic and a tensile test each (the tensile test runs ~30 000 steps, a
     // wide window in which to interrupt the second case).
-    let suite: PatchSuite = toml::from_str(
-        r#"
-tests = ["elastic", "tensile"]
-[material]
-young_modulus = 1.0
-poisson_ratio = 0.0
-tensile_strength = 0.2
-shear_strength = 0.1
-surface_energy = 1.5
-restitution = 0.95
-density = 1.0
-[sample]
-kind = "hcp"
-d0_over_dc = 0.6
-l_over_d0 = 8.0
-w_over_d0 = 3.0
-[sweep]
-poisson_ratio = [0.0, 0.1]
-"#,
-    )
-    .unwrap();
+    let suite = hcp_campaign(r#""elastic", "tensile""#, &[0.0, 0.1]);
     let dir = std::env::temp_dir().join(format!("cgdem_interrupt_{}", std::process::id()));
     std::fs::remove_dir_all(&dir).ok();
     std::fs::create_dir_all(&dir).unwrap();

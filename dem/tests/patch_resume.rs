@@ -2,34 +2,12 @@
 //! rerun into the same directory reuses its finished cases and computes only the rest; a report of a
 //! different campaign is refused, never overwritten.
 
-use dem::scenario::patch::suite::PatchCase;
-use dem::scenario::patch::{run_suite, PatchReport, PatchSuite};
-use dem::{DemError, Parallelism};
+mod common;
 
-/// Two quick HCP cases (elastic test only, 8 d0 box) differing in the target nu.
-fn campaign(second_nu: f64) -> PatchSuite {
-    toml::from_str(&format!(
-        r#"
-tests = ["elastic"]
-[material]
-young_modulus = 1.0
-poisson_ratio = 0.0
-tensile_strength = 0.2
-shear_strength = 0.1
-surface_energy = 1.5
-restitution = 0.95
-density = 1.0
-[sample]
-kind = "hcp"
-d0_over_dc = 0.6
-l_over_d0 = 8.0
-w_over_d0 = 3.0
-[sweep]
-poisson_ratio = [0.0, {second_nu}]
-"#
-    ))
-    .expect("valid campaign")
-}
+use common::hcp_campaign;
+use dem::scenario::patch::suite::PatchCase;
+use dem::scenario::patch::{run_suite, PatchReport};
+use dem::{DemError, Parallelism};
 
 fn dir(name: &str) -> std::path::PathBuf {
     let d = std::env::temp_dir().join(format!("cgdem_resume_{}_{name}", std::process::id()));
@@ -63,7 +41,8 @@ fn measured(c: &PatchCase) -> [f64; 6] {
 
 #[test]
 fn an_interrupted_campaign_reuses_its_finished_cases() {
-    let suite = campaign(0.2);
+    // Two quick cases differing in the target nu.
+    let suite = hcp_campaign("\"elastic\"", &[0.0, 0.2]);
     let full_dir = dir("full");
     let full = run_suite(&suite, Some(&full_dir), Parallelism::Sequential).unwrap();
     assert_eq!(full.cases.len(), 2);
@@ -100,7 +79,12 @@ fn an_interrupted_campaign_reuses_its_finished_cases() {
 
     // Another campaign into the same directory: refused, and the report left as it was.
     let before = std::fs::read(cut_dir.join("report.json")).unwrap();
-    let err = run_suite(&campaign(0.1), Some(&cut_dir), Parallelism::Sequential).unwrap_err();
+    let err = run_suite(
+        &hcp_campaign("\"elastic\"", &[0.0, 0.1]),
+        Some(&cut_dir),
+        Parallelism::Sequential,
+    )
+    .unwrap_err();
     assert!(
         matches!(&err, DemError::InvalidConfig(m) if m.contains("another campaign")),
         "{err}"

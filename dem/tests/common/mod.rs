@@ -59,3 +59,32 @@ pub fn thermalise(p: &mut Particles, v: f64, w: f64, seed: u64) {
         p.omega[i] = draw(w);
     }
 }
+
+/// A small HCP patch-test campaign (8 d0 box, Table 4 material at nu = 0) running `tests` (TOML
+/// array body, e.g. `"elastic"`) over the target Poisson's ratios `nus`: quick cases for the tests
+/// of campaign bookkeeping.
+pub fn hcp_campaign(tests: &str, nus: &[f64]) -> dem::scenario::patch::PatchSuite {
+    let nus: Vec<String> = nus.iter().map(|v| format!("{v:?}")).collect();
+    toml::from_str(&format!(
+        r#"
+tests = [{tests}]
+[material]
+young_modulus = 1.0
+poisson_ratio = 0.0
+tensile_strength = 0.2
+shear_strength = 0.1
+surface_energy = 1.5
+restitution = 0.95
+density = 1.0
+[sample]
+kind = "hcp"
+d0_over_dc = 0.6
+l_over_d0 = 8.0
+w_over_d0 = 3.0
+[sweep]
+poisson_ratio = [{}]
+"#,
+        nus.join(", ")
+    ))
+    .expect("valid campaign")
+}
