@@ -234,11 +234,14 @@ pub fn run(args: BenchArgs) -> Result<()> {
     let dir = std::env::temp_dir().join(format!("cgdem-bench-{}", std::process::id()));
     let mut rows = Vec::new();
     let mut rounds = Vec::new();
+    // Written by the first round (it needs cgdem's time step), then reused: every round runs LAMMPS
+    // on the same files.
+    let mut lammps_input = None;
     for k in 0..args.repeats {
         if args.repeats > 1 {
             println!("round {} of {}", k + 1, args.repeats);
         }
-        rounds.push(round(&args, &dir, &mut rows)?);
+        rounds.push(round(&args, &dir, &mut lammps_input, &mut rows)?);
     }
     std::fs::remove_dir_all(&dir).ok();
     if args.repeats > 1 {
@@ -261,7 +264,12 @@ pub fn run(args: BenchArgs) -> Result<()> {
 }
 
 /// One round of the comparison: cgdem at each thread count, the machine ceiling, LAMMPS.
-fn round(args: &BenchArgs, dir: &Path, rows: &mut Vec<(String, usize, f64, f64)>) -> Result<Round> {
+fn round(
+    args: &BenchArgs,
+    dir: &Path,
+    lammps_input: &mut Option<PathBuf>,
+    rows: &mut Vec<(String, usize, f64, f64)>,
+) -> Result<Round> {
     let mut r = Round::default();
     let mut dt_used = 0.0;
     for &t in &args.threads {
@@ -297,7 +305,12 @@ fn round(args: &BenchArgs, dir: &Path, rows: &mut Vec<(String, usize, f64, f64)>
         rows.push((format!("cgdem-{copies}x1t"), copies * n, secs, rate));
     }
     if !args.no_lammps {
-        let input = write_lammps_inputs(dir, args.cells, args.steps, dt_used)?;
+        let input = match lammps_input {
+            Some(p) => p.clone(),
+            None => lammps_input
+                .insert(write_lammps_inputs(dir, args.cells, args.steps, dt_used)?)
+                .clone(),
+        };
         let (secs, n) = time_lammps(&input, args.steps)?;
         let rate = n as f64 * args.steps as f64 / secs;
         println!("LAMMPS  1 process : {n} spheres x {} steps in {secs:.3} s = {rate:.3e} particle-steps/s (gran/hooke/history, nve/sphere)", args.steps);
