@@ -55,8 +55,12 @@ fn main() -> Result<()> {
         )
         .with_writer(std::io::stderr)
         .init();
-    install_interrupt_handler();
     let cli = Cli::parse();
+    // An MD worker keeps the default Ctrl-C behaviour (the process ends at once): LAMMPS cannot
+    // stop mid-run cleanly, and the stages it finished are already on disk (md_bridge::stages).
+    if !matches!(cli.command, Command::MdWorker(_)) {
+        install_interrupt_handler();
+    }
     match cli.command {
         Command::Doctor => cmd_doctor::run(),
         Command::Md(a) => cmd_md::run(a),
@@ -85,7 +89,8 @@ fn parallelism(threads: usize) -> dem::Parallelism {
 }
 
 /// First Ctrl-C: every simulation stops at its next step and the command saves what it computed
-/// (checkpoints, histories); second Ctrl-C: exit at once.
+/// (checkpoints, histories; an MD job's worker ends and keeps its finished stages); second Ctrl-C:
+/// exit at once.
 fn install_interrupt_handler() {
     let result = ctrlc::set_handler(|| {
         if dem::interrupt::requested() {

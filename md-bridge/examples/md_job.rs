@@ -15,7 +15,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Job::Model(c) => JobOutput::Model(Box::new(md_bridge::model::run(&lmp, c)?)),
         Job::Silica(c) => {
             let pot = venv.potential(md_bridge::silica::POTENTIAL)?;
-            JobOutput::Silica(Box::new(md_bridge::silica::run(&lmp, &pot, c)?))
+            JobOutput::Silica(Box::new(md_bridge::silica::run(
+                &lmp,
+                &pot,
+                c,
+                &md_bridge::stages::Stages::none(),
+            )?))
         }
         other => {
             return Err(

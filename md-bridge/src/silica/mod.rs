@@ -21,9 +21,10 @@ pub mod measure;
 
 use crate::error::{MdError, Result};
 use crate::lammps::Lammps;
+use crate::stages::Stages;
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
-use std::time::Instant;
 
 /// Potential file used for silica.
 pub const POTENTIAL: &str = "SiO.1990.vashishta";
@@ -236,48 +237,81 @@ pub struct SilicaResult {
     pub timings: Vec<(String, f64)>,
 }
 
-/// Runs the whole workflow on a fresh instance. `potential` is the Vashishta file.
-pub fn run(lmp: &Lammps, potential: &Path, cfg: &SilicaConfig) -> Result<SilicaResult> {
+/// The first stage of the workflow: the melt-quenched glass relaxed to 0 K, which every
+/// measurement starts from (saved as a stage, so an interrupted job keeps it).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Glass {
+    pub n_atoms: u64,
+    /// kg/m^3, averaged over the anneal at `quench_end_temperature`.
+    pub density: f64,
+    /// kg/m^3 of the 0 K relaxed glass.
+    pub density_0k: f64,
+    /// LAMMPS atom type by atom id (1 = Si, 2 = O), checked when the glass is rebuilt.
+    pub types: Vec<i32>,
+    pub reference: measure::Reference,
+}
+
+/// Melt-quench and relaxation to 0 K on a fresh instance.
+pub fn make_glass(lmp: &Lammps, potential: &Path, cfg: &SilicaConfig) -> Result<Glass> {
+    let density = measure::melt_quench(lmp, potential, cfg)?;
+    let reference = measure::relax_0k(lmp, cfg)?;
+    Ok(Glass {
+        n_atoms: lmp.natoms()?,
+        density,
+        density_0k: lmp.thermo("density")? * 1000.0,
+        types: lmp.gather_i32("type", 1)?,
+        reference,
+    })
+}
+
+/// Runs the whole workflow on a fresh instance, stage by stage: the glass, then each measurement
+/// on a cell rebuilt from it ([`measure::rebuild`]). Stages found in `stages` are not rerun; each
+/// stage that finishes is saved there ([`Stages::none`] keeps nothing). The result does not
+/// depend on which stages were resumed. `potential` is the Vashishta file.
+pub fn run(
+    lmp: &Lammps,
+    potential: &Path,
+    cfg: &SilicaConfig,
+    stages: &Stages,
+) -> Result<SilicaResult> {
     cfg.validate()?;
     let mut timings = Vec::new();
-    let mut t = Instant::now();
-    let mut lap = |name: &str, timings: &mut Vec<(String, f64)>| {
-        tracing::info!("silica: {name} done in {:.1} s", t.elapsed().as_secs_f64());
-        timings.push((name.to_owned(), t.elapsed().as_secs_f64()));
-        t = Instant::now();
+    let (glass, run) = stages.run("glass", || make_glass(lmp, potential, cfg))?;
+    timings.push(("glass".to_owned(), run.seconds));
+    let w = Workflow {
+        lmp,
+        potential,
+        cfg,
+        glass: &glass,
+        stages,
     };
-    let density = measure::melt_quench(lmp, potential, cfg)?;
-    let n_atoms = lmp.natoms()?;
-    lap("melt_quench", &mut timings);
-    let reference = measure::relax_0k(lmp, cfg)?;
-    let density_0k = lmp.thermo("density")? * 1000.0;
-    lap("relax_0k", &mut timings);
-    let el = if cfg.elastic_temperature > 0.0 {
-        measure::elastic_thermal(lmp, cfg, &reference)?
-    } else {
-        measure::elastic(lmp, cfg, &reference)?
-    };
-    lap("elastic", &mut timings);
+    let el = w.stage("elastic", &mut timings, |r| {
+        if cfg.elastic_temperature > 0.0 {
+            measure::elastic_thermal(lmp, cfg, r)
+        } else {
+            measure::elastic(lmp, cfg, r)
+        }
+    })?;
     let (tension, shear) = if cfg.measure_strength {
-        let ten = measure::tension(lmp, cfg, &reference)?;
-        lap("tension", &mut timings);
-        let sh = measure::shear(lmp, cfg, &reference)?;
-        lap("shear", &mut timings);
-        (Some(ten), Some(sh))
+        (
+            Some(w.stage("tension", &mut timings, |r| measure::tension(lmp, cfg, r))?),
+            Some(w.stage("shear", &mut timings, |r| measure::shear(lmp, cfg, r))?),
+        )
     } else {
         (None, None)
     };
     let (g0, g1) = if cfg.measure_surface {
-        let (a, b) = measure::surface_energy(lmp, cfg, &reference)?;
-        lap("surface", &mut timings);
+        let (a, b) = w.stage("surface", &mut timings, |r| {
+            measure::surface_energy(lmp, cfg, r)
+        })?;
         (Some(a), Some(b))
     } else {
         (None, None)
     };
     Ok(SilicaResult {
-        n_atoms,
-        density,
-        density_0k,
+        n_atoms: glass.n_atoms,
+        density: glass.density,
+        density_0k: glass.density_0k,
         stiffness: el.c,
         c11: el.c11,
         c12: el.c12,
@@ -292,6 +326,32 @@ pub fn run(lmp: &Lammps, potential: &Path, cfg: &SilicaConfig) -> Result<SilicaR
         surface_energy: g1,
         timings,
     })
+}
+
+/// What every measurement stage of [`run`] needs.
+struct Workflow<'a> {
+    lmp: &'a Lammps,
+    potential: &'a Path,
+    cfg: &'a SilicaConfig,
+    glass: &'a Glass,
+    stages: &'a Stages,
+}
+
+impl Workflow<'_> {
+    /// One measurement stage: the glass rebuilt, then `measure` on it (or the stage's saved value).
+    fn stage<T: Serialize + DeserializeOwned>(
+        &self,
+        name: &str,
+        timings: &mut Vec<(String, f64)>,
+        measure: impl FnOnce(&measure::Reference) -> Result<T>,
+    ) -> Result<T> {
+        let (value, run) = self.stages.run(name, || {
+            measure::rebuild(self.lmp, self.potential, self.cfg, self.glass)?;
+            measure(&self.glass.reference)
+        })?;
+        timings.push((name.to_owned(), run.seconds));
+        Ok(value)
+    }
 }
 
 #[cfg(test)]
