@@ -8,7 +8,8 @@
 //! 3. box relaxation to 0 K, zero pressure: the reference state of every measurement below;
 //! 4. elastic constants by +-strain, thermally averaged at `elastic_temperature` (default 300 K,
 //!    [`measure::elastic_thermal`]), or with relaxed ions at 0 K when it is 0 ([`measure::elastic`]);
-//!    tensile and shear strength by constant-rate MD at `strength_temperature`; surface energy by
+//!    tensile and shear strength by constant-rate MD at `strength_temperature` (default 10 K: the
+//!    ideal strength paper 000 asks for); surface energy by
 //!    cleaving the periodic cell (replicated `surface_replicate` times first) open along z,
 //!    relaxing (and optionally annealing) the two free surfaces; an annealed slab is compared with
 //!    a bulk given the same replication and anneal.
@@ -67,8 +68,8 @@ pub struct SilicaConfig {
     /// noise at 300 K and stays linear (tension peaks past 0.2; central differences cancel the
     /// quadratic term). With `elastic_temperature = 0` there is no noise: 0.005 is enough.
     pub elastic_strain: f64,
-    /// K at which C_ij are measured; 300 = the card's temperature, where its density, strengths
-    /// and Table 5's glass are, so the card is at one temperature: isothermal constants, stress
+    /// K at which C_ij are measured; 300 = room temperature, where the card's density and Table
+    /// 5's measured E (73 GPa, real glass) are: isothermal constants, stress
     /// averaged by NVT MD under each +- strain ([`measure::elastic_thermal`]). 0 = relaxed-ion
     /// static constants of the 0 K stress-free glass by minimisation ([`measure::elastic`]):
     /// noise-free and ~3x cheaper (77 s against 230 s on one core), but ~10 % stiffer in E
@@ -82,7 +83,11 @@ pub struct SilicaConfig {
     pub min_ftol: f64,
     /// Whether to run the tensile and shear tests (the card needs them; CI checks may skip them).
     pub measure_strength: bool,
-    /// K of the tension and shear runs; room temperature like the rest of the card.
+    /// K of the tension and shear runs. 10 K = nearly athermal: paper 000 takes sigma_mN as the
+    /// *ideal* tensile strength, that of a defect-free solid at the atomic scale (Table 5 caption,
+    /// section 2.2), and thermal activation lowers the MD peak: the default glass peaks at 16.0 GPa
+    /// (sigma_T 9.9) at 10 K against 13.3 (8.9) at 300 K (docs/md-bridge.md). The thermostatted
+    /// MD needs T > 0; 10 K carries 3 % of the thermal energy of 300 K.
     pub strength_temperature: f64,
     /// 1/ps engineering strain rate of tension and shear (0.05/ps = 5e10/s, usual for ideal strength).
     pub strain_rate: f64,
@@ -125,7 +130,7 @@ impl Default for SilicaConfig {
             elastic_md_ps: 2.0,
             min_ftol: 1e-5,
             measure_strength: true,
-            strength_temperature: 300.0,
+            strength_temperature: 10.0,
             strain_rate: 0.05,
             max_tensile_strain: 0.4,
             max_shear_strain: 0.45,
@@ -156,6 +161,11 @@ impl SilicaConfig {
             ("max_shear_strain", self.max_shear_strain),
             ("surface_vacuum", self.surface_vacuum),
             ("elastic_md_ps", self.elastic_md_ps),
+            ("strength_temperature", self.strength_temperature),
+            (
+                "surface_anneal_temperature",
+                self.surface_anneal_temperature,
+            ),
         ];
         for (n, v) in pos {
             if !(v.is_finite() && v > 0.0) {
@@ -358,14 +368,16 @@ impl Workflow<'_> {
 mod tests {
     use super::*;
 
-    /// The default card is at one temperature and made by the fast quench DESIGN.md 4 describes.
+    /// The default card: density, E, nu and gamma at room temperature, strengths ideal (nearly
+    /// athermal), after the fast quench DESIGN.md 4 describes.
     #[test]
-    fn default_card_is_at_one_temperature_after_a_fast_quench() {
+    fn default_card_is_at_room_temperature_with_ideal_strengths_after_a_fast_quench() {
         let c = SilicaConfig::default();
         c.validate().unwrap();
         assert_eq!(c.elastic_temperature, c.quench_end_temperature);
-        assert_eq!(c.strength_temperature, c.quench_end_temperature);
         assert_eq!(c.surface_anneal_temperature, c.quench_end_temperature);
+        assert_eq!(c.quench_end_temperature, 300.0);
+        assert!(c.strength_temperature > 0.0 && c.strength_temperature <= 10.0);
         assert!(c.quench_rate >= 1000.0, "quench {} K/ps", c.quench_rate);
         // Melt + quench + anneal of the default glass in steps: the DESIGN.md 3 budget (648 atoms
         // under 2 minutes on 2 cores at ~16 us per atom-step) allows at most ~23 000.
