@@ -279,7 +279,16 @@ fn print_summary(r: &SilicaResult, cfg: &SilicaConfig) {
         }
     }
     if let (Some(g0), Some(g)) = (r.surface_energy_unrelaxed, r.surface_energy) {
-        println!("surface energy {g:.3} J/m2 (cleaved + minimised only: {g0:.3})");
+        let planes: Vec<String> = r
+            .surface_cleaves
+            .iter()
+            .map(|c| format!("{:.3}", c[1]))
+            .collect();
+        println!(
+            "surface energy {g:.3} J/m2, mean of {} cleave plane(s): {} (cleaved + minimised only: {g0:.3})",
+            planes.len(),
+            planes.join(", ")
+        );
     }
     let t: Vec<String> = r
         .timings
@@ -337,8 +346,17 @@ fn card(r: &SilicaResult, rec: &JobRecord, cfg: &SilicaConfig) -> Option<Materia
                     cfg.strength_temperature, cfg.strain_rate
                 ),
                 format!(
-                    "surface energy: glass replicated {:?} (x, y, z), cleaved along z, annealed {} ps at {} K, minimised; the bulk reference replicated, annealed and minimised alike",
-                    cfg.surface_replicate, cfg.surface_anneal_ps, cfg.surface_anneal_temperature
+                    "surface energy: glass replicated {:?} (x, y, z), cleaved along z, annealed {} ps at {} K, minimised; the bulk reference replicated, annealed and minimised alike; mean of {} cleave planes z = lo + k Lz / {}: {}",
+                    cfg.surface_replicate,
+                    cfg.surface_anneal_ps,
+                    cfg.surface_anneal_temperature,
+                    cfg.surface_cleaves,
+                    cfg.surface_cleaves,
+                    r.surface_cleaves
+                        .iter()
+                        .map(|c| format!("{:.3}", c[1]))
+                        .collect::<Vec<_>>()
+                        .join(", ")
                 ),
             ],
         },

@@ -105,6 +105,23 @@ fn silica_card_from_worker_has_agreed_keys_plausible_values_and_is_cached() {
         "gamma {}",
         f("surface_energy")
     );
+    // gamma is the mean of the default three cleave planes, each recorded with the job.
+    let rec: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("out/silica.json")).unwrap()).unwrap();
+    let planes = rec["output"]["silica"]["surface_cleaves"]
+        .as_array()
+        .unwrap();
+    assert_eq!(planes.len(), 3, "{planes:?}");
+    let annealed: Vec<f64> = planes.iter().map(|p| p[1].as_f64().unwrap()).collect();
+    let mean = annealed.iter().sum::<f64>() / 3.0;
+    assert!(
+        (mean / f("surface_energy") - 1.0).abs() < 1e-12,
+        "{annealed:?}"
+    );
+    assert!(
+        annealed.windows(2).all(|w| w[0] != w[1]),
+        "three planes, three different surfaces: {annealed:?}"
+    );
     assert_eq!(f("restitution"), 0.9);
     let p = card["provenance"].as_table().unwrap();
     assert_eq!(p["potential"].as_str(), Some("SiO.1990.vashishta"));

@@ -94,11 +94,15 @@ fn small_melt_quench_gives_plausible_glass_and_elastic_constants() {
     // Surface energy with the surface anneal, on the same glass. The annealed slab must be
     // compared with a bulk given the same anneal: against the 0 K bulk, the relaxation of the
     // glass's interior during the anneal would be booked as a lower surface energy.
+    // One cleave plane first: the instance then holds that plane's annealed slab.
     let surf = SilicaConfig {
         surface_anneal_ps: 1.0,
+        surface_cleaves: 1,
         ..thermal
     };
-    let (g0, g1) = measure::surface_energy(&l, &surf, &reference).unwrap();
+    let one = measure::surface_energy(&l, &surf, &reference).unwrap();
+    let (g0, g1) = (one.unrelaxed, one.annealed);
+    assert_eq!(one.cleaves, [[g0, g1]]);
     let a = reference.cell.lengths();
     let area = a[0] * a[1];
     let g1_vs_0k_bulk =
@@ -134,7 +138,9 @@ fn small_melt_quench_gives_plausible_glass_and_elastic_constants() {
         rep.pe,
         reference.pe
     );
-    let (g2, _) = measure::surface_energy(&l, &thick, &reference).unwrap();
+    let g2 = measure::surface_energy(&l, &thick, &reference)
+        .unwrap()
+        .unrelaxed;
     // Thickness: the box length along z less the widest gap between atoms (the vacuum; z is
     // periodic, so an atom may wrap across it).
     let mut z: Vec<f64> = l.gather_f64("x", 3).unwrap()[2..]
@@ -198,12 +204,15 @@ fn gamma_versus_replication() {
     );
     for rep in reps {
         let t = std::time::Instant::now();
+        // One cleave plane, as when the scan was recorded.
         let c = SilicaConfig {
             surface_replicate: rep,
+            surface_cleaves: 1,
             ..cfg.clone()
         };
         c.validate().unwrap();
-        let (g0, g1) = measure::surface_energy(&l, &c, &reference).unwrap();
+        let s = measure::surface_energy(&l, &c, &reference).unwrap();
+        let (g0, g1) = (s.unrelaxed, s.annealed);
         let atoms = l.natoms().unwrap();
         let len = reference.cell.lengths();
         let thick = len[2] * f64::from(rep[2]) / 10.0;

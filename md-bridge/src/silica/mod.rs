@@ -10,7 +10,8 @@
 //!    [`measure::elastic_thermal`]), or with relaxed ions at 0 K when it is 0 ([`measure::elastic`]);
 //!    tensile and shear strength by constant-rate MD at `strength_temperature` (default 10 K: the
 //!    ideal strength paper 000 asks for); surface energy by
-//!    cleaving the periodic cell (replicated `surface_replicate` times first) open along z,
+//!    cleaving the periodic cell (replicated `surface_replicate` times first) open along z at
+//!    `surface_cleaves` planes,
 //!    relaxing (and optionally annealing) the two free surfaces; an annealed slab is compared with
 //!    a bulk given the same replication and anneal.
 //!
@@ -110,6 +111,11 @@ pub struct SilicaConfig {
     /// same periodic pattern). Default [1, 1, 1]: 2 and 3 cells thick moved the unannealed gamma
     /// of 4 default glasses by at most 0.016 J/m^2 (docs/md-bridge.md), so one cell is converged.
     pub surface_replicate: [u32; 3],
+    /// Cleave planes per glass (z = lo + k Lz / n, k < n); gamma is their mean. 3: one plane of a
+    /// 648-atom glass scatters by ~20 % (5 glasses, docs/md-bridge.md); three planes a third of
+    /// the cell apart (0.7 nm at 648 atoms) are three different surfaces of the same glass, for
+    /// two more slab relaxations.
+    pub surface_cleaves: u32,
     /// Seed of atom placement and velocities; fixed so runs are reproducible and cacheable.
     pub seed: u64,
 }
@@ -139,6 +145,7 @@ impl Default for SilicaConfig {
             surface_anneal_ps: 2.0,
             surface_anneal_temperature: 300.0,
             surface_replicate: [1, 1, 1],
+            surface_cleaves: 3,
             seed: 12345,
         }
     }
@@ -192,6 +199,9 @@ impl SilicaConfig {
         {
             return bad("surface_replicate: each count >= 1, at most 27 copies in all");
         }
+        if !(1..=8).contains(&self.surface_cleaves) {
+            return bad("surface_cleaves: from 1 to 8 cleave planes");
+        }
         if self.formula_units < 8 {
             return bad("formula_units must be >= 8 (24 atoms)");
         }
@@ -243,6 +253,9 @@ pub struct SilicaResult {
     pub surface_energy_unrelaxed: Option<f64>,
     /// J/m^2 after the surface anneal and minimisation, against the bulk given the same anneal.
     pub surface_energy: Option<f64>,
+    /// (cleaved and minimised, annealed) J/m^2 per cleave plane; the two fields above are their means.
+    #[serde(default)]
+    pub surface_cleaves: Vec<[f64; 2]>,
     /// (stage, wall seconds).
     pub timings: Vec<(String, f64)>,
 }
@@ -310,13 +323,12 @@ pub fn run(
     } else {
         (None, None)
     };
-    let (g0, g1) = if cfg.measure_surface {
-        let (a, b) = w.stage("surface", &mut timings, |r| {
+    let surface = if cfg.measure_surface {
+        Some(w.stage("surface", &mut timings, |r| {
             measure::surface_energy(lmp, cfg, r)
-        })?;
-        (Some(a), Some(b))
+        })?)
     } else {
-        (None, None)
+        None
     };
     Ok(SilicaResult {
         n_atoms: glass.n_atoms,
@@ -332,8 +344,9 @@ pub fn run(
         poisson_ratio: el.poisson,
         tension,
         shear,
-        surface_energy_unrelaxed: g0,
-        surface_energy: g1,
+        surface_energy_unrelaxed: surface.as_ref().map(|s| s.unrelaxed),
+        surface_energy: surface.as_ref().map(|s| s.annealed),
+        surface_cleaves: surface.map(|s| s.cleaves).unwrap_or_default(),
         timings,
     })
 }
