@@ -117,6 +117,32 @@ fn script_job_runs_in_worker_and_identical_request_hits_cache() {
     assert_eq!(cache_entries(&cache).len(), 2);
 }
 
+/// A relative `--cache` (as a user types it) works: the worker, which runs inside the job's cache
+/// entry, still finds its job file.
+#[test]
+fn relative_cache_path_is_resolved_before_the_worker_starts() {
+    let d = scratch("relative");
+    let input = write_input(&d, &lj(20));
+    common::venv_or_fail();
+    let out = Command::new(env!("CARGO_BIN_EXE_cgdem"))
+        .args([
+            "md",
+            "script",
+            &input,
+            "--read",
+            "n",
+            "--cache",
+            "rel-cache",
+        ])
+        .current_dir(&d)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "stderr: {}", text(&out.stderr));
+    let vars: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(vars["n"], 500.0);
+    assert_eq!(cache_entries(&d.join("rel-cache")).len(), 1);
+}
+
 #[test]
 fn same_job_runs_under_mpirun_with_two_ranks() {
     let d = scratch("mpi");

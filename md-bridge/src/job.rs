@@ -219,7 +219,10 @@ pub fn run_job(job: &Job, opts: &RunOptions) -> Result<(JobRecord, bool)> {
         return Err(MdError::config("run options", "np must be >= 1"));
     }
     let (hash, wheel, pot_sha) = request_identity(job, opts)?;
-    let dir = opts.cache_dir.join(&hash);
+    // Absolute: the worker runs inside the job dir, where a relative path would point elsewhere.
+    let cache_dir =
+        std::path::absolute(&opts.cache_dir).map_err(|e| MdError::io(&opts.cache_dir, e))?;
+    let dir = cache_dir.join(&hash);
     let record_path = dir.join("record.json");
     if opts.reuse_cache {
         if let Ok(text) = std::fs::read_to_string(&record_path) {
