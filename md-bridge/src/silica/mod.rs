@@ -36,8 +36,8 @@ pub const EV_PER_A2_TO_J_PER_M2: f64 = 16.021_766_34;
 /// bar to Pa.
 pub const BAR_TO_PA: f64 = 1e5;
 
-/// Settings of the silica workflow. Defaults give the reference card in ~7 minutes on 2 cores
-/// (6.6 min measured, `--np 2`, docs/md-bridge.md).
+/// Settings of the silica workflow. Defaults give the reference card in ~5 minutes on 2 cores
+/// (5.3 min measured, `--np 2`, docs/md-bridge.md).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SilicaConfig {
