@@ -1,5 +1,6 @@
-//! An MD job interrupted by Ctrl-C keeps its finished stages and resumes after them, and the
-//! resumed result is bit-identical to an uninterrupted run of the same request (real LAMMPS, a
+//! An MD job interrupted by Ctrl-C keeps its finished stages and resumes after them, the
+//! resumed result is bit-identical to an uninterrupted run of the same request, and `--no-cache`
+//! recomputes every stage (real LAMMPS, a
 //! tiny fast silica workflow, the real `cgdem` binary and a real SIGINT to its process group,
 //! as a terminal sends it).
 
@@ -144,5 +145,20 @@ fn ctrl_c_keeps_finished_stages_and_the_resumed_run_matches_an_uninterrupted_one
             .filter(|l| !l.contains("wall") && !l.contains("finished"))
             .collect::<Vec<_>>(),
     );
+
+    // 4. `--no-cache` recomputes every stage (none is resumed) and, deterministic, gives the same
+    // numbers once more.
+    check(
+        &cgdem(&d, "out-c", "cache-a")
+            .arg("--no-cache")
+            .output()
+            .unwrap(),
+    );
+    let log = std::fs::read_to_string(stages.parent().unwrap().join("worker.log")).unwrap();
+    assert!(
+        !log.contains("resumed"),
+        "--no-cache resumed a stage:\n{log}"
+    );
+    assert_eq!(output_without_timings(&d.join("out-c")), a);
     let _ = std::fs::remove_dir_all(&d);
 }
