@@ -1,8 +1,7 @@
 //! An MD job interrupted by Ctrl-C keeps its finished stages and resumes after them, the
 //! resumed result is bit-identical to an uninterrupted run of the same request, and `--no-cache`
-//! recomputes every stage (real LAMMPS, a
-//! tiny fast silica workflow, the real `cgdem` binary and a real SIGINT to its process group,
-//! as a terminal sends it).
+//! recomputes every stage. Real LAMMPS, a tiny fast silica workflow, the real `cgdem` binary and
+//! a real SIGINT to its process group, as a terminal sends it.
 
 mod common;
 
