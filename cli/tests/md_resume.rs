@@ -19,9 +19,10 @@ strain_rate = 0.5
 surface_anneal_ps = 0.3
 ";
 
-fn cgdem(dir: &Path, out: &str, cache: &str) -> Command {
+/// `cgdem md silica` on the tiny config in `dir`, on `np` MPI ranks.
+fn cgdem(dir: &Path, np: u32, out: &str, cache: &str) -> Command {
     let mut c = Command::new(env!("CARGO_BIN_EXE_cgdem"));
-    c.args(["md", "silica", "--config"])
+    c.args(["md", "silica", "--np", &np.to_string(), "--config"])
         .arg(dir.join("tiny.toml"))
         .arg("--out")
         .arg(dir.join(out))
@@ -60,14 +61,28 @@ fn output_without_timings(out_dir: &Path) -> serde_json::Value {
 
 #[test]
 fn ctrl_c_keeps_finished_stages_and_the_resumed_run_matches_an_uninterrupted_one() {
+    interrupt_resume_and_compare(1);
+}
+
+/// Under `mpirun`: rank 0 writes the stages, every rank reads them back, and the interrupt
+/// reaches the ranks through mpirun.
+#[test]
+fn the_same_holds_on_two_mpi_ranks() {
+    interrupt_resume_and_compare(2);
+}
+
+fn interrupt_resume_and_compare(np: u32) {
     common::venv_or_fail();
-    let d = std::env::temp_dir().join(format!("cgdem-md-resume-test-{}", std::process::id()));
+    let d = std::env::temp_dir().join(format!(
+        "cgdem-md-resume-test-{}-np{np}",
+        std::process::id()
+    ));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     std::fs::write(d.join("tiny.toml"), TINY).unwrap();
 
     // 1. Interrupted: Ctrl-C once the elastic stage is saved (the tension stage is running).
-    let mut child = cgdem(&d, "out-a", "cache-a")
+    let mut child = cgdem(&d, np, "out-a", "cache-a")
         .process_group(0)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -109,7 +124,7 @@ fn ctrl_c_keeps_finished_stages_and_the_resumed_run_matches_an_uninterrupted_one
     assert!(!d.join("out-a/silica.json").exists());
 
     // 2. The same command again: resumes after glass and elastic, and completes.
-    check(&cgdem(&d, "out-a", "cache-a").output().unwrap());
+    check(&cgdem(&d, np, "out-a", "cache-a").output().unwrap());
     let log = std::fs::read_to_string(stages.parent().unwrap().join("worker.log")).unwrap();
     for stage in ["glass", "elastic"] {
         assert!(
@@ -126,7 +141,7 @@ fn ctrl_c_keeps_finished_stages_and_the_resumed_run_matches_an_uninterrupted_one
 
     // 3. Uninterrupted, in another cache: the same numbers to the last bit (JSON floats are the
     // shortest round-trip representation, so equal text means equal bits).
-    check(&cgdem(&d, "out-b", "cache-b").output().unwrap());
+    check(&cgdem(&d, np, "out-b", "cache-b").output().unwrap());
     let (a, b) = (
         output_without_timings(&d.join("out-a")),
         output_without_timings(&d.join("out-b")),
@@ -148,7 +163,7 @@ fn ctrl_c_keeps_finished_stages_and_the_resumed_run_matches_an_uninterrupted_one
     // 4. `--no-cache` recomputes every stage (none is resumed) and, deterministic, gives the same
     // numbers once more.
     check(
-        &cgdem(&d, "out-c", "cache-a")
+        &cgdem(&d, np, "out-c", "cache-a")
             .arg("--no-cache")
             .output()
             .unwrap(),
