@@ -60,18 +60,10 @@ struct Round {
 
 /// Median and range of one figure over the rounds that have it.
 fn spread(values: impl Iterator<Item = f64>) -> Option<(f64, f64, f64)> {
-    let mut v: Vec<f64> = values.collect();
-    if v.is_empty() {
-        return None;
-    }
-    v.sort_by(f64::total_cmp);
-    let m = v.len() / 2;
-    let median = if v.len() % 2 == 1 {
-        v[m]
-    } else {
-        0.5 * (v[m - 1] + v[m])
-    };
-    Some((median, v[0], v[v.len() - 1]))
+    use md_bridge::bench::{median, range};
+    let v: Vec<f64> = values.collect();
+    let (lo, hi) = range(&v);
+    (!v.is_empty()).then(|| (median(&v), lo, hi))
 }
 
 /// Sphere diameter (lattice spacing): 0.6 d_c for Table 4, so delta_f = d/3 reaches neither the

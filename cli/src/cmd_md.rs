@@ -279,15 +279,10 @@ fn print_summary(r: &SilicaResult, cfg: &SilicaConfig) {
         }
     }
     if let (Some(g0), Some(g)) = (r.surface_energy_unrelaxed, r.surface_energy) {
-        let planes: Vec<String> = r
-            .surface_cleaves
-            .iter()
-            .map(|c| format!("{:.3}", c[1]))
-            .collect();
         println!(
             "surface energy {g:.3} J/m2, mean of {} cleave plane(s): {} (cleaved + minimised only: {g0:.3})",
-            planes.len(),
-            planes.join(", ")
+            r.surface_cleaves.len(),
+            annealed_planes(r)
         );
     }
     let t: Vec<String> = r
@@ -296,6 +291,16 @@ fn print_summary(r: &SilicaResult, cfg: &SilicaConfig) {
         .map(|(n, s)| format!("{n} {s:.0}s"))
         .collect();
     println!("timings: {}", t.join(", "));
+}
+
+/// The annealed surface energy of each cleave plane, J/m^2, as a list.
+fn annealed_planes(r: &SilicaResult) -> String {
+    let g: Vec<String> = r
+        .surface_cleaves
+        .iter()
+        .map(|c| format!("{:.3}", c[1]))
+        .collect();
+    g.join(", ")
 }
 
 /// The card needs every property; None when a measurement was switched off.
@@ -352,11 +357,7 @@ fn card(r: &SilicaResult, rec: &JobRecord, cfg: &SilicaConfig) -> Option<Materia
                     cfg.surface_anneal_temperature,
                     cfg.surface_cleaves,
                     cfg.surface_cleaves,
-                    r.surface_cleaves
-                        .iter()
-                        .map(|c| format!("{:.3}", c[1]))
-                        .collect::<Vec<_>>()
-                        .join(", ")
+                    annealed_planes(r)
                 ),
             ],
         },

@@ -191,7 +191,8 @@ fn json<T: Serialize>(v: &T, what: &str) -> Result<String> {
     serde_json::to_string_pretty(v).map_err(|e| MdError::config(what, e))
 }
 
-fn write_atomic(path: &Path, text: &str) -> Result<()> {
+/// Writes `text` to `path` through a temporary file and a rename, so readers never see half a file.
+pub(crate) fn write_atomic(path: &Path, text: &str) -> Result<()> {
     let tmp = path.with_extension("tmp");
     std::fs::write(&tmp, text).map_err(|e| MdError::io(&tmp, e))?;
     std::fs::rename(&tmp, path).map_err(|e| MdError::io(path, e))

@@ -110,7 +110,7 @@ pub fn run(lmp: &Lammps, cfg: &JunctionConfig) -> Result<JunctionResult> {
     let (y1, y2, y3) = (hs, hs + gap, 2.0 * hs + gap);
     let (xl, xr) = (lx / 2.0 - d / 2.0, lx / 2.0 + d / 2.0);
     let wall = 2.0 * row + 0.1;
-    let s = cfg.seed % 900_000_000 + 1;
+    let s = crate::lammps::lammps_seed(cfg.seed, 1);
     lmp.commands(&format!(
         "{lattice}
 region box block 0 {lx} -0.25 {ytop} -0.5 0.5 units box

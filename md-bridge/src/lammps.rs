@@ -49,6 +49,12 @@ const LMP_TYPE_VECTOR: i32 = 1;
 const LMP_SIZE_VECTOR: i32 = 3;
 const LMP_VAR_EQUAL: i32 = 0;
 
+/// The LAMMPS random seed number `k` of a job seeded with `seed`: LAMMPS takes positive 32-bit
+/// seeds, so the job's seed is folded below 9e8 and the stream number `k` (>= 1) added.
+pub fn lammps_seed(seed: u64, k: u64) -> u64 {
+    seed % 900_000_000 + k
+}
+
 /// Simulation box as LAMMPS stores it (orthogonal lengths plus tilts).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct BoxState {

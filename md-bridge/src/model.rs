@@ -289,7 +289,7 @@ run {n}
 unfix md
 reset_timestep 0",
         t2 = 2.0 * t,
-        seed = cfg.seed % 900_000_000 + if tension { 1 } else { 2 },
+        seed = crate::lammps::lammps_seed(cfg.seed, if tension { 1 } else { 2 }),
         n = cfg.steps(20.0),
     ))?;
     let b = lmp.box_state()?;

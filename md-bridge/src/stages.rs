@@ -137,10 +137,7 @@ impl Stages {
                 value: &value,
             };
             let text = serde_json::to_string(&file).map_err(|e| MdError::config(name, e))?;
-            let path = dir.join(format!("{name}.json"));
-            let tmp = dir.join(format!("{name}.json.tmp"));
-            std::fs::write(&tmp, text).map_err(|e| MdError::io(&tmp, e))?;
-            std::fs::rename(&tmp, &path).map_err(|e| MdError::io(&path, e))?;
+            crate::job::write_atomic(&dir.join(format!("{name}.json")), &text)?;
         }
         let run = StageRun {
             seconds,

@@ -305,7 +305,7 @@ pub fn plan(cfg: &SilicaJunctionConfig, block: &GlassBlock) -> Result<JunctionPl
     } else {
         "# no dump (dump_every_ps = 0)".to_owned()
     };
-    let s = cfg.seed % 900_000_000 + 1;
+    let s = crate::lammps::lammps_seed(cfg.seed, 1);
     let t = cfg.temperature;
     let input = format!(
         "# Silica junction shear, paper 000 section 4 geometry; written by `cgdem md silica-junction`.

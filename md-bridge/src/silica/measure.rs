@@ -3,7 +3,7 @@
 
 use super::{SilicaConfig, Strength, BAR_TO_PA, EV_PER_A2_TO_J_PER_M2};
 use crate::error::{MdError, Result};
-use crate::lammps::{BoxState, Lammps};
+use crate::lammps::{lammps_seed, BoxState, Lammps};
 use crate::loading::{load_curve, peak_of, Ramp};
 use std::path::Path;
 
@@ -47,7 +47,7 @@ fn cell(
     o_options: &str,
 ) -> String {
     let n = cfg.formula_units;
-    let s = cfg.seed % 900_000_000 + 1; // LAMMPS seeds must be positive 32-bit
+    let s = lammps_seed(cfg.seed, 1);
     format!(
         "units metal
 atom_style atomic
@@ -115,7 +115,6 @@ pub fn rebuild(lmp: &Lammps, potential: &Path, cfg: &SilicaConfig, g: &super::Gl
 pub fn melt_quench(lmp: &Lammps, potential: &Path, cfg: &SilicaConfig) -> Result<f64> {
     let mass_g = cfg.formula_units as f64 * (MASS_SI + 2.0 * MASS_O) / AVOGADRO;
     let side = (mass_g / cfg.initial_density * 1e24).cbrt(); // Angstrom
-    let s = cfg.seed % 900_000_000 + 1; // as in `cell`
     let (tm, tq) = (cfg.melt_temperature, cfg.quench_end_temperature);
     let quench_steps = cfg.steps((tm - tq) / cfg.quench_rate);
     // ave/time output lands on multiples of Nfreq: reset the step so the anneal ends on one.
@@ -148,7 +147,7 @@ fix rhoavg all ave/time 10 {nrep} {anneal} v_rho
 run {anneal}
 variable rhoavg equal f_rhoavg
 ",
-        s3 = s + 2,
+        s3 = lammps_seed(cfg.seed, 3),
         melt = cfg.steps(cfg.melt_ps),
         nrep = anneal / 20,
     ))?;
@@ -344,7 +343,7 @@ run {n}
 unfix md
 reset_timestep 0",
         t2 = 2.0 * t, // a 0 K solid shares kinetic energy with potential energy: start at 2T
-        s = cfg.seed % 900_000_000 + 10 + seed_offset,
+        s = lammps_seed(cfg.seed, 10 + seed_offset),
         n = cfg.steps(2.0),
     ))
 }
@@ -434,22 +433,6 @@ pub struct Surface {
     pub annealed: f64,
 }
 
-impl Surface {
-    /// Sample standard deviation of the annealed values between planes (0 for one plane).
-    pub fn annealed_sd(&self) -> f64 {
-        let n = self.cleaves.len() as f64;
-        if n < 2.0 {
-            return 0.0;
-        }
-        let ss: f64 = self
-            .cleaves
-            .iter()
-            .map(|c| (c[1] - self.annealed).powi(2))
-            .sum();
-        (ss / (n - 1.0)).sqrt()
-    }
-}
-
 /// Cleaves the cell open along z (`surface_vacuum`) at `surface_cleaves` planes, z = lo + k Lz / n
 /// (the atoms are shifted down by k Lz / n, periodically, and the cell opened at its boundary),
 /// relaxes each slab and returns the surface energies. Several planes sample several surfaces of
@@ -534,7 +517,7 @@ run {n}
 unfix md
 velocity all set 0.0 0.0 0.0",
         t2 = 2.0 * t,
-        s = cfg.seed % 900_000_000 + 20,
+        s = lammps_seed(cfg.seed, 20),
         n = cfg.steps(cfg.surface_anneal_ps),
     ))?;
     let minimize = format!("minimize 0.0 {} 20000 200000", cfg.min_ftol);
