@@ -363,6 +363,11 @@ impl Simulation {
         if crate::interrupt::requested() {
             return Err(DemError::Interrupted { step: self.step });
         }
+        if self.rigid.is_rigid.len() != self.particles.len() {
+            return Err(DemError::InvalidConfig(
+                "the particle count changed: call particles_changed() before stepping".into(),
+            ));
+        }
         match self.pool.clone() {
             Some(pool) => pool.install(|| self.step_inner(true)),
             None => self.step_inner(false),

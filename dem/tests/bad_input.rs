@@ -164,3 +164,21 @@ fn damaged_checkpoint_neighbour_list_is_refused() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn particles_added_without_notice_are_an_error_not_a_panic() {
+    let mut sim = try_new(
+        pair_of(1.0, 0.0),
+        PairModel::cohesive(Material::table4(0.1)),
+        vec![],
+    )
+    .unwrap();
+    sim.run(3).unwrap();
+    sim.particles
+        .push_sphere(Vec3::new(10.0, 0.0, 0.0), 1.0, 1.0);
+    let e = sim.step().unwrap_err();
+    assert!(e.to_string().contains("particles_changed"), "{e}");
+    sim.particles_changed().unwrap();
+    sim.run(3).unwrap();
+    assert_eq!(sim.forces().len(), 3);
+}
