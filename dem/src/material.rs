@@ -121,6 +121,14 @@ impl Material {
         if self.scaling < 0.0 {
             return bad(format!("scaling s = {} must be >= 0 (eq 10)", self.scaling));
         }
+        // Each field may be finite while the derived lengths overflow (E = 1e308, say).
+        let d_c = self.critical_diameter();
+        if !(d_c.is_finite() && d_c > 0.0) {
+            return bad(format!(
+                "the critical diameter d_c = 4 gamma E / sigma_N^2 (eq 18) comes out as {d_c}: \
+                 give the material in units where its values are of moderate size"
+            ));
+        }
         if self.poisson_ratio <= -1.0 {
             return bad(format!(
                 "poisson_ratio = {} must be > -1",

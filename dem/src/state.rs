@@ -6,6 +6,11 @@ use serde::{Deserialize, Serialize};
 use crate::error::{DemError, Result};
 use crate::Vec3;
 
+/// Largest particle count the sample generators make: a configuration that asks for more (a box
+/// lengths typed in the wrong unit, say) is refused before it exhausts memory. At ~1 KB of state,
+/// neighbour list and scratch per particle, 5e7 particles already take ~50 GB.
+pub const MAX_PARTICLES: usize = 50_000_000;
+
 /// Moment of inertia of a solid sphere, 2/5 m r^2.
 #[inline]
 pub fn sphere_inertia(mass: f64, radius: f64) -> f64 {

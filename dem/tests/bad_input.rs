@@ -37,6 +37,11 @@ fn invalid_materials() {
     let mut m = Material::table4(0.1);
     m.poisson_ratio = -1.0;
     assert!(try_new(pair_of(1.0, 0.0), PairModel::cohesive(m), vec![]).is_err());
+    // Finite fields whose derived critical diameter overflows.
+    let mut m = Material::table4(0.1);
+    m.young_modulus = 1e308;
+    let e = try_new(pair_of(1.0, 0.0), PairModel::cohesive(m), vec![]).unwrap_err();
+    assert!(e.to_string().contains("critical diameter"), "{e}");
 }
 
 #[test]

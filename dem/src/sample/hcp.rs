@@ -7,7 +7,7 @@
 
 use crate::domain::SimBox;
 use crate::error::{DemError, Result};
-use crate::state::Particles;
+use crate::state::{Particles, MAX_PARTICLES};
 use crate::Vec3;
 
 /// An HCP block of `nx * ny * nz` spheres of diameter `d` and density `rho`, with its periodic box.
@@ -29,9 +29,18 @@ pub fn hcp_lattice(
             "HCP diameter {d} and density {rho} must be positive"
         )));
     }
+    let count = nx
+        .checked_mul(ny)
+        .and_then(|c| c.checked_mul(nz))
+        .filter(|&c| c <= MAX_PARTICLES);
+    let Some(count) = count else {
+        return Err(DemError::InvalidConfig(format!(
+            "HCP lattice of {nx} x {ny} x {nz} spheres is above the limit of {MAX_PARTICLES} particles"
+        )));
+    };
     let dy = d * 3f64.sqrt() / 2.0;
     let dz = d * (2.0f64 / 3.0).sqrt();
-    let mut p = Particles::with_capacity(nx * ny * nz);
+    let mut p = Particles::with_capacity(count);
     for k in 0..nz {
         // B layers sit over the centroids of A triangles.
         let (ox, oy) = if k % 2 == 0 {
@@ -74,6 +83,7 @@ pub fn counts_for(lengths: Vec3, d: f64) -> Result<(usize, usize, usize)> {
             "HCP block {lengths:?} of diameter {d} must be positive"
         )));
     }
+    // Saturating float-to-int casts: an absurd ratio becomes a huge count that hcp_lattice refuses.
     let even = |x: f64| (2.0 * (0.5 * x).round()).max(2.0) as usize;
     let nx = (lengths.x / d).round().max(1.0) as usize;
     Ok((
@@ -121,5 +131,13 @@ mod tests {
             (25, 28, 4)
         );
         assert!(counts_for(Vec3::new(1.0, -1.0, 1.0), 1.0).is_err());
+    }
+
+    #[test]
+    fn a_lattice_beyond_the_particle_limit_is_refused_before_allocating() {
+        let (nx, ny, nz) = counts_for(Vec3::new(25.0, 25.0, 3e9), 1.0).unwrap();
+        let e = hcp_lattice(nx, ny, nz, 1.0, 1.0, [true; 3]).unwrap_err();
+        assert!(e.to_string().contains("limit"), "{e}");
+        assert!(hcp_lattice(usize::MAX, 2, 2, 1.0, 1.0, [true; 3]).is_err());
     }
 }

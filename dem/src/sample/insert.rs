@@ -15,11 +15,8 @@ use super::sizes::SizeDistribution;
 use super::Sample;
 use crate::domain::SimBox;
 use crate::error::{DemError, Result};
-use crate::state::Particles;
+use crate::state::{Particles, MAX_PARTICLES};
 use crate::Vec3;
-
-/// Upper bound on the particle count, to refuse configurations that would exhaust memory.
-const MAX_PARTICLES: usize = 50_000_000;
 
 /// What to insert.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
