@@ -243,6 +243,20 @@ impl CalibrationConfig {
                 "at least one unknown and one target".into(),
             ));
         }
+        // A repeated target would weigh its residual twice, a repeated unknown make the Jacobian
+        // rank-deficient: both are typing slips, refused rather than silently used.
+        if let Some(t) = first_repeat(&self.targets) {
+            return Err(CalibrateError::InvalidConfig(format!(
+                "target {} is listed twice",
+                t.name()
+            )));
+        }
+        if let Some(u) = first_repeat(&unknowns) {
+            return Err(CalibrateError::InvalidConfig(format!(
+                "unknown {} is listed twice",
+                u.name()
+            )));
+        }
         if self.law == ForceLaw::NormalOnly {
             if let Some(u) = unknowns
                 .iter()
@@ -321,4 +335,12 @@ const DESIGN_TANGENTIAL_START: f64 = 0.3;
 pub fn design_poisson_ratio(model: &PairModel) -> Option<f64> {
     let nu = model.material.poisson_ratio;
     (model.law == ForceLaw::Cohesive && (1.0 - 4.0 * nu) / (1.0 + nu) < 0.05).then_some(0.2)
+}
+
+/// The first element that appears again later in `v`.
+fn first_repeat<T: PartialEq + Copy>(v: &[T]) -> Option<T> {
+    v.iter()
+        .enumerate()
+        .find(|&(k, x)| v[k + 1..].contains(x))
+        .map(|(_, &x)| x)
 }

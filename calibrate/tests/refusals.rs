@@ -47,6 +47,14 @@ fn bad_inputs_are_errors_not_panics() {
     assert!(matches!(refused(&c), CalibrateError::InvalidConfig(_)));
     let e = refused(&cfg("cohesive", 0.15, "targets = []"));
     assert!(matches!(e, CalibrateError::InvalidConfig(_)), "{e}");
+    let twice = "targets = [\"young_modulus\", \"poisson_ratio\", \"young_modulus\"]";
+    let e = refused(&cfg("cohesive", 0.15, twice));
+    assert!(
+        e.to_string().contains("young_modulus is listed twice"),
+        "{e}"
+    );
+    let e = refused(&cfg("cohesive", 0.15, "unknowns = [\"k_n\", \"k_n\"]"));
+    assert!(e.to_string().contains("k_n is listed twice"), "{e}");
     let mut c = cfg("cohesive", 0.15, "");
     c.material.as_mut().unwrap().tensile_strength = -1.0;
     assert!(matches!(refused(&c), CalibrateError::Dem(_)));
