@@ -18,6 +18,7 @@
 
 pub mod curve;
 pub mod elastic;
+pub mod progress;
 mod rig;
 pub mod strength;
 pub mod suite;
@@ -26,7 +27,10 @@ use serde::{Deserialize, Serialize};
 
 pub use curve::{Curve, CurvePoint};
 pub use elastic::{elastic, ElasticConfig, ElasticResult};
-pub use strength::{strength, FractureResult, StrengthConfig, StrengthMode, StrengthResult};
+pub use progress::ProgressFile;
+pub use strength::{
+    strength, strength_resumable, FractureResult, StrengthConfig, StrengthMode, StrengthResult,
+};
 pub use suite::{run_suite, PatchReport, PatchSuite};
 
 /// The two rigid walls of every patch test.

@@ -17,12 +17,14 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
+use super::progress::{self, ProgressFile, SaveClock};
 use super::rig::Rig;
 use super::{target_strength, Curve, CurvePoint, WallConfig};
 use crate::error::{not_positive, DemError, Result};
+use crate::io::checkpoint::Checkpoint;
 use crate::material::PairModel;
 use crate::sample::Sample;
-use crate::sim::{Parallelism, RunConfig, TimeStep};
+use crate::sim::{Parallelism, RunConfig, Simulation, TimeStep};
 use crate::walls::RigidMotion;
 use crate::Vec3;
 
@@ -180,6 +182,43 @@ pub fn strength(
     cfg: &StrengthConfig,
     par: Parallelism,
 ) -> Result<StrengthResult> {
+    strength_resumable(sample, model, cfg, par, None)
+}
+
+/// What a strength test has done so far: enough to continue it exactly (see [`super::progress`]).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct Progress {
+    /// Pair potential energy at the start (for the fracture energy).
+    u0: f64,
+    curve: Curve,
+    /// None until the first record (the peak starts at minus infinity, which JSON cannot hold).
+    peak: Option<f64>,
+    peak_strain: f64,
+    /// Successive records below `stop_below` of the peak.
+    low: u32,
+    /// Wall work so far.
+    work: f64,
+    /// Steps up to the last record, and steps into the current one.
+    steps: u64,
+    in_record: u64,
+    /// Wall-clock seconds of the earlier runs.
+    seconds: f64,
+    sim: Checkpoint,
+    /// The result once the test has ended (its curve is `curve` above).
+    done: Option<StrengthResult>,
+}
+
+/// [`strength`], saving its progress to `progress` (periodically and on an interrupt) and continuing
+/// from it when it holds the progress of the same inputs. When the test ends the file keeps its
+/// result, so that a rerun returns it at once; the caller removes the file when it no longer needs it
+/// (the patch campaign does once the result is in its report).
+pub fn strength_resumable(
+    sample: &Sample,
+    model: &PairModel,
+    cfg: &StrengthConfig,
+    par: Parallelism,
+    progress: Option<&ProgressFile>,
+) -> Result<StrengthResult> {
     cfg.validate()?;
     let t0 = Instant::now();
     let tensile = cfg.mode == StrengthMode::Tensile;
@@ -190,12 +229,43 @@ pub fn strength(
         ..RunConfig::default()
     };
     let mut rig = Rig::new(sample, model, &cfg.walls, run, par)?;
-    rig.sim.step()?;
-    let u0 = rig.sim.energy().normal + rig.sim.energy().tangential;
-    rig.sim.set_config(RunConfig {
-        track_energy: false,
-        ..run
-    })?;
+    let key = progress::key(&(cfg, model), sample)?;
+    let saved = progress.and_then(|f| progress::load::<Progress>(&f.path, &key));
+    let mut st = match saved {
+        Some(mut p) => {
+            if let Some(mut done) = p.done.take() {
+                tracing::info!(mode = ?cfg.mode, "strength test: finished result taken from its progress file");
+                done.curve = p.curve;
+                return Ok(done);
+            }
+            tracing::info!(mode = ?cfg.mode, step = p.steps + p.in_record, "strength test resumed from its progress file");
+            p
+        }
+        None => {
+            rig.sim.step()?;
+            let u0 = rig.sim.energy().normal + rig.sim.energy().tangential;
+            rig.sim.set_config(RunConfig {
+                track_energy: false,
+                ..run
+            })?;
+            Progress {
+                u0,
+                curve: Curve::default(),
+                peak: None,
+                peak_strain: 0.0,
+                low: 0,
+                work: 0.0,
+                steps: 1,
+                in_record: 0,
+                seconds: 0.0,
+                sim: rig.sim.checkpoint(),
+                done: None,
+            }
+        }
+    };
+    // The simulation restarts from the checkpoint in either case, so that a fresh run and a resumed
+    // one step the same rebuilt state (bit-identical continuations).
+    rig.sim = Simulation::from_checkpoint(st.sim.clone(), par)?;
     let dt = rig.sim.dt();
     let speed = cfg.strain_rate * rig.l0 / dt;
     let v = if tensile {
@@ -205,56 +275,80 @@ pub fn strength(
     };
     rig.set_top(RigidMotion::with_velocity(v));
     let component = if tensile { (1, 1) } else { (0, 1) };
-    let mut curve = Curve::default();
-    let (mut peak, mut peak_strain, mut low) = (f64::NEG_INFINITY, 0.0, 0u32);
-    let mut work = 0.0;
-    let mut steps = 1u64;
-    let mut separated = false;
     let every = 5000 * cfg.record_every.div_ceil(100).max(1);
-    loop {
-        for k in 0..cfg.record_every {
-            if k + 1 == cfg.record_every {
+    let mut clock = SaveClock::new();
+    let outcome: Result<bool> = loop {
+        let mut failed = None;
+        while st.in_record < cfg.record_every {
+            if st.in_record + 1 == cfg.record_every {
                 rig.sim.request_virial();
             }
-            rig.sim.step()?;
+            if let Err(e) = rig.sim.step() {
+                failed = Some(e);
+                break;
+            }
             // Work of the constraint force (minus the pair force on the wall) over this step.
-            work -= rig.top_traction().dot(&v) * rig.area * dt;
+            st.work -= rig.top_traction().dot(&v) * rig.area * dt;
+            st.in_record += 1;
         }
-        steps += cfg.record_every;
+        if let Some(e) = failed {
+            break Err(e);
+        }
+        st.in_record = 0;
+        st.steps += cfg.record_every;
         let s = rig.stress();
         let (exy, eyy) = rig.strains();
         let tr = rig.top_traction();
         let strain = if tensile { eyy } else { exy };
         let value = s[component];
-        curve.points.push(CurvePoint {
-            step: steps,
+        st.curve.points.push(CurvePoint {
+            step: st.steps,
             strain_xy: exy,
             strain_yy: eyy,
             stress: CurvePoint::components(&s),
             wall_traction_y: tr.y,
             wall_traction_x: tr.x,
         });
+        let peak = st.peak.unwrap_or(f64::NEG_INFINITY);
         if value > peak {
-            peak = value;
-            peak_strain = strain;
+            st.peak = Some(value);
+            st.peak_strain = strain;
         }
-        if steps % every < cfg.record_every {
-            tracing::info!(mode = ?cfg.mode, step = steps, strain, stress = value, peak, "strength test");
+        let peak = st.peak.unwrap_or(f64::NEG_INFINITY);
+        if st.steps % every < cfg.record_every {
+            tracing::info!(mode = ?cfg.mode, step = st.steps, strain, stress = value, peak, "strength test");
         }
-        let past_peak = strain > peak_strain && peak > 0.0;
-        low = if past_peak && value.abs() < cfg.stop_below * peak {
-            low + 1
+        let past_peak = strain > st.peak_strain && peak > 0.0;
+        st.low = if past_peak && value.abs() < cfg.stop_below * peak {
+            st.low + 1
         } else {
             0
         };
-        if low >= cfg.stop_records {
-            separated = true;
-            break;
+        if st.low >= cfg.stop_records {
+            break Ok(true);
         }
-        if (past_peak && strain - peak_strain > cfg.post_peak_strain) || strain > cfg.max_strain {
-            break;
+        if (past_peak && strain - st.peak_strain > cfg.post_peak_strain) || strain > cfg.max_strain
+        {
+            break Ok(false);
         }
-    }
+        if let Some(f) = progress.filter(|f| clock.due(f.every)) {
+            save_progress(f, &key, &mut st, &rig, t0)?;
+        }
+    };
+    let separated = match outcome {
+        Ok(separated) => separated,
+        Err(e) => {
+            // An interrupt leaves the state at a step boundary: keep it for the rerun. (Any other
+            // failure keeps the last periodic save, made from a healthy state.)
+            if let (DemError::Interrupted { .. }, Some(f)) = (&e, progress) {
+                save_progress(f, &key, &mut st, &rig, t0)?;
+                tracing::info!(path = %f.path.display(), "strength test progress saved: rerun to continue");
+            }
+            return Err(e);
+        }
+    };
+    let (u0, work, steps, curve) = (st.u0, st.work, st.steps, st.curve.clone());
+    let (peak, peak_strain) = (st.peak.unwrap_or(f64::NEG_INFINITY), st.peak_strain);
     let fracture = if tensile {
         rig.sim.set_config(run)?;
         rig.sim.step()?;
@@ -284,9 +378,29 @@ pub fn strength(
         steps,
         particles: rig.sim.particles.len(),
         fracture,
-        wall_seconds: t0.elapsed().as_secs_f64(),
+        wall_seconds: st.seconds + t0.elapsed().as_secs_f64(),
         curve,
     };
+    if let Some(f) = progress {
+        st.done = Some(res.clone());
+        save_progress(f, &key, &mut st, &rig, t0)?;
+    }
     tracing::info!(mode = ?cfg.mode, strength = peak, ratio = res.ratio, steps, seconds = res.wall_seconds, "strength test");
     Ok(res)
+}
+
+/// Writes the test's state with the simulation's current checkpoint.
+fn save_progress(
+    f: &ProgressFile,
+    key: &str,
+    st: &mut Progress,
+    rig: &Rig,
+    t0: Instant,
+) -> Result<()> {
+    st.sim = rig.sim.checkpoint();
+    let seconds = st.seconds;
+    st.seconds += t0.elapsed().as_secs_f64();
+    let r = progress::save(&f.path, key, &*st);
+    st.seconds = seconds;
+    r
 }

@@ -6,8 +6,10 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use super::progress::{self, ProgressFile};
 use super::{
-    elastic, strength, ElasticConfig, ElasticResult, StrengthConfig, StrengthMode, StrengthResult,
+    elastic, strength_resumable, ElasticConfig, ElasticResult, StrengthConfig, StrengthMode,
+    StrengthResult,
 };
 use crate::error::{DemError, Result};
 use crate::io::checkpoint::write_atomic;
@@ -303,16 +305,33 @@ pub fn run_suite(suite: &PatchSuite, out: Option<&Path>, par: Parallelism) -> Re
                     tensile: None,
                     shear: None,
                 };
+                // The strength tests keep their progress beside the report, so an interrupted case
+                // continues inside its test instead of starting over.
+                let progress =
+                    |name: &str| out.map(|d| ProgressFile::new(progress_path(d, k, name)));
+                let (p_tensile, p_shear) = (progress("tensile"), progress("shear"));
                 for kind in &suite.tests {
                     match kind {
                         PatchKind::Elastic => {
                             case.elastic = Some(elastic(&sample, &model, &suite.elastic, par)?)
                         }
                         PatchKind::Tensile => {
-                            case.tensile = Some(strength(&sample, &model, &suite.tensile, par)?)
+                            case.tensile = Some(strength_resumable(
+                                &sample,
+                                &model,
+                                &suite.tensile,
+                                par,
+                                p_tensile.as_ref(),
+                            )?)
                         }
                         PatchKind::Shear => {
-                            case.shear = Some(strength(&sample, &model, &suite.shear, par)?)
+                            case.shear = Some(strength_resumable(
+                                &sample,
+                                &model,
+                                &suite.shear,
+                                par,
+                                p_shear.as_ref(),
+                            )?)
                         }
                     }
                 }
@@ -328,6 +347,9 @@ pub fn run_suite(suite: &PatchSuite, out: Option<&Path>, par: Parallelism) -> Re
                             cases: cases.clone(),
                         },
                     )?;
+                    for p in [p_tensile, p_shear].into_iter().flatten() {
+                        progress::remove(&p.path)?;
+                    }
                 }
             }
         }
@@ -390,6 +412,11 @@ pub fn write_report(dir: &Path, report: &PatchReport) -> Result<()> {
         reason: e.to_string(),
     })?;
     write_atomic(&path, &bytes)
+}
+
+/// Where case `k`'s strength test `name` keeps its progress inside the campaign directory.
+pub fn progress_path(dir: &Path, k: usize, name: &str) -> PathBuf {
+    dir.join(format!("case{k}_{name}.progress.json"))
 }
 
 #[cfg(test)]
