@@ -37,11 +37,15 @@ impl ProgressFile {
     }
 }
 
-/// Identifies the inputs a progress file belongs to: the settings and model as JSON (exact floats)
-/// and an FNV-1a hash of the sample's particles and box.
+/// Identifies inputs by their settings alone, as JSON (exact floats).
+pub(crate) fn settings_key(settings: &impl Serialize) -> Result<String> {
+    serde_json::to_string(settings).map_err(|e| DemError::InvalidConfig(e.to_string()))
+}
+
+/// Identifies the inputs a test's progress file belongs to: the settings and model as JSON (exact
+/// floats) and an FNV-1a hash of the sample's particles and box.
 pub(crate) fn key(settings: &impl Serialize, sample: &Sample) -> Result<String> {
-    let json =
-        serde_json::to_string(settings).map_err(|e| DemError::InvalidConfig(e.to_string()))?;
+    let json = settings_key(settings)?;
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     let mut eat = |x: f64| {
         for b in x.to_bits().to_le_bytes() {

@@ -285,8 +285,27 @@ pub fn run_suite(suite: &PatchSuite, out: Option<&Path>, par: Parallelism) -> Re
                 };
                 tracing::info!(case = k, of = total, d0_over_dc = ?d0, nu, s, "patch case");
                 let t = std::time::Instant::now();
-                let sample = make_sample(&spec, &model, &suite.relax, par)?;
-                let sample_seconds = t.elapsed().as_secs_f64();
+                // A relaxed sample is kept beside the report until its case is reported, so that an
+                // interrupted case does not relax it again (relaxation is deterministic: same bits).
+                let sample_file = out.map(|d| progress_path(d, k, "sample"));
+                let sample_key = progress::settings_key(&(&spec, &model, &suite.relax))?;
+                let kept = sample_file
+                    .as_deref()
+                    .and_then(|f| progress::load::<(Sample, f64)>(f, &sample_key));
+                let (sample, sample_seconds) = match kept {
+                    Some(kept) => {
+                        tracing::info!(case = k, "sample taken from its progress file");
+                        kept
+                    }
+                    None => {
+                        let sample = make_sample(&spec, &model, &suite.relax, par)?;
+                        let seconds = t.elapsed().as_secs_f64();
+                        if let Some(f) = &sample_file {
+                            progress::save(f, &sample_key, &(&sample, seconds))?;
+                        }
+                        (sample, seconds)
+                    }
+                };
                 if let (Some(dir), true) = (out, suite.save_samples) {
                     sample.save(&dir.join(format!("case{k}_sample.json")))?;
                 }
@@ -349,6 +368,9 @@ pub fn run_suite(suite: &PatchSuite, out: Option<&Path>, par: Parallelism) -> Re
                     )?;
                     for p in [p_tensile, p_shear].into_iter().flatten() {
                         progress::remove(&p.path)?;
+                    }
+                    if let Some(f) = &sample_file {
+                        progress::remove(f)?;
                     }
                 }
             }
