@@ -99,6 +99,11 @@ pub fn run(args: PatchArgs, threads: usize) -> Result<()> {
         );
     }
     println!("report: {}", args.out.join("report.json").display());
+    let figures = validation::figures::patch::draw(&report, &args.out)
+        .context("drawing the campaign's figures (the report above is complete)")?;
+    for f in figures {
+        println!("figure: {}", f.display());
+    }
     Ok(())
 }
 

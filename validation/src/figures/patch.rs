@@ -1,0 +1,465 @@
+//! Figures of a patch-test campaign (`cgdem patch`): the stress-strain curves of every case, and how
+//! the measured E, nu and strengths move with the swept variable (paper 000 Figs. 5-8 and A.4-A.8).
+//!
+//! - `curves.png`: stress over the case's target strength (eq 20) against strain, tensile and shear
+//!   side by side, one line per case;
+//! - `trends.png` (campaigns of two or more cases): E / E_target, nu, tensile and shear strength
+//!   against d0 / d_c (log scale, when d0 is swept) or against the target nu, one series per scaling
+//!   exponent s, with the targets (nu, eq 20) drawn as dashed lines.
+
+use std::path::{Path, PathBuf};
+
+use dem::scenario::patch::PatchReport;
+use plotters::prelude::*;
+
+use super::style::{colour, draw_err, ensure_font, tick, FAMILY};
+use crate::error::{Result, ValidationError};
+
+/// One line of `curves.png`: (strain, stress / target strength).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CurveSeries {
+    pub label: String,
+    pub points: Vec<(f64, f64)>,
+}
+
+/// The curves of the tensile and of the shear tests, read from the campaign's CSV files.
+pub fn curve_series(report: &PatchReport, dir: &Path) -> Result<[Vec<CurveSeries>; 2]> {
+    let mut out = [Vec::new(), Vec::new()];
+    for (k, case) in report.cases.iter().enumerate() {
+        let tests = [
+            ("tensile", &case.tensile, 2, 4),
+            ("shear", &case.shear, 1, 6),
+        ];
+        for (slot, (name, result, strain_col, stress_col)) in tests.into_iter().enumerate() {
+            let Some(r) = result else { continue };
+            let path = dir.join(format!("case{k}_{name}.csv"));
+            let points = read_columns(&path, strain_col, stress_col)?
+                .into_iter()
+                .map(|(e, s)| (e, s / r.target_strength))
+                .collect();
+            out[slot].push(CurveSeries {
+                label: case_label(report, k),
+                points,
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// What `trends.png` is drawn against.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TrendAxis {
+    /// d0 / d_c, on a log scale.
+    D0,
+    /// The target Poisson's ratio.
+    Nu,
+}
+
+/// One case in `trends.png`; `None` where the campaign did not run that test.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrendPoint {
+    pub x: f64,
+    pub e_ratio: Option<f64>,
+    pub nu: Option<f64>,
+    pub nu_target: f64,
+    /// (measured, target of eq 20).
+    pub tensile: Option<(f64, f64)>,
+    pub shear: Option<(f64, f64)>,
+}
+
+/// The cases grouped by scaling exponent s, against the swept variable.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Trends {
+    pub axis: TrendAxis,
+    pub groups: Vec<(String, Vec<TrendPoint>)>,
+}
+
+/// The trend series, or `None` when neither d0 nor nu takes two values.
+pub fn trends(report: &PatchReport) -> Option<Trends> {
+    let distinct = |v: Vec<f64>| {
+        let mut v = v;
+        v.sort_by(f64::total_cmp);
+        v.dedup();
+        v.len()
+    };
+    let cases = &report.cases;
+    let axis = if distinct(cases.iter().filter_map(|c| c.d0_over_dc).collect()) >= 2 {
+        TrendAxis::D0
+    } else if distinct(cases.iter().map(|c| c.poisson_ratio).collect()) >= 2 {
+        TrendAxis::Nu
+    } else {
+        return None;
+    };
+    let mut groups: Vec<(f64, Vec<TrendPoint>)> = Vec::new();
+    for c in cases {
+        let x = match axis {
+            TrendAxis::D0 => match c.d0_over_dc {
+                Some(d) => d,
+                None => continue,
+            },
+            TrendAxis::Nu => c.poisson_ratio,
+        };
+        let e = c.elastic.as_ref();
+        let point = TrendPoint {
+            x,
+            e_ratio: e.map(|e| e.young_modulus / e.target_young_modulus),
+            nu: e.map(|e| e.poisson_ratio),
+            nu_target: c.poisson_ratio,
+            tensile: c.tensile.as_ref().map(|t| (t.strength, t.target_strength)),
+            shear: c.shear.as_ref().map(|t| (t.strength, t.target_strength)),
+        };
+        match groups.iter_mut().find(|(s, _)| *s == c.scaling) {
+            Some((_, points)) => points.push(point),
+            None => groups.push((c.scaling, vec![point])),
+        }
+    }
+    for (_, points) in &mut groups {
+        points.sort_by(|a, b| a.x.total_cmp(&b.x));
+    }
+    Some(Trends {
+        axis,
+        groups: groups
+            .into_iter()
+            .map(|(s, p)| (format!("s = {s}"), p))
+            .collect(),
+    })
+}
+
+/// Draws the campaign's figures into `dir` and returns their paths.
+pub fn draw(report: &PatchReport, dir: &Path) -> Result<Vec<PathBuf>> {
+    ensure_font()?;
+    let mut written = Vec::new();
+    let [tensile, shear] = curve_series(report, dir)?;
+    if !(tensile.is_empty() && shear.is_empty()) {
+        let path = dir.join("curves.png");
+        draw_curves(&path, &tensile, &shear)?;
+        written.push(path);
+    }
+    if let Some(t) = trends(report) {
+        let path = dir.join("trends.png");
+        draw_trends(&path, &t)?;
+        written.push(path);
+    }
+    Ok(written)
+}
+
+/// How a series is drawn.
+#[derive(Clone, Copy, PartialEq)]
+enum Mark {
+    /// Solid line (measured curves).
+    Line,
+    /// Line with circles (measured points).
+    Points,
+    /// Dashed line (targets).
+    Target,
+}
+
+/// A series ready to draw: label, points in plot coordinates, how, colour index.
+type Series = (String, Vec<(f64, f64)>, Mark, usize);
+
+fn draw_curves(path: &Path, tensile: &[CurveSeries], shear: &[CurveSeries]) -> Result<()> {
+    // Cases are keyed by colour in a strip above the panels (a legend inside would hide the steep
+    // early parts of the curves); a case has the same colour in both panels.
+    let mut labels: Vec<&str> = Vec::new();
+    for c in tensile.iter().chain(shear) {
+        if !labels.contains(&c.label.as_str()) {
+            labels.push(&c.label);
+        }
+    }
+    let per_row = 3;
+    let strip_h = 16 + 28 * labels.len().div_ceil(per_row) as u32;
+    let root = BitMapBackend::new(path, (1400, 560 + strip_h)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| draw_err(path, e))?;
+    let (strip, body) = root.split_vertically(strip_h);
+    for (k, label) in labels.iter().enumerate() {
+        let at = (
+            24 + 460 * (k % per_row) as i32,
+            10 + 28 * (k / per_row) as i32,
+        );
+        let c = colour(k);
+        let style = TextStyle::from((FAMILY, 18)).color(&c);
+        strip
+            .draw(&Text::new(label.to_string(), at, style))
+            .map_err(|e| draw_err(path, e))?;
+    }
+    let panels = body.split_evenly((1, 2));
+    let as_series = |v: &[CurveSeries]| -> Vec<Series> {
+        v.iter()
+            .map(|c| {
+                let k = labels.iter().position(|l| *l == c.label).unwrap_or(0);
+                (c.label.clone(), c.points.clone(), Mark::Line, k)
+            })
+            .collect()
+    };
+    let axes = [
+        ("tensile test", "strain eps_yy", "sigma_yy / target sigma_N"),
+        ("shear test", "strain eps_xy", "sigma_xy / target sigma_T"),
+    ];
+    for ((area, series), (title, xd, yd)) in panels.iter().zip([tensile, shear]).zip(axes) {
+        panel(
+            path,
+            area,
+            (title, xd, yd),
+            Scale::Linear,
+            &as_series(series),
+        )?;
+    }
+    root.present().map_err(|e| draw_err(path, e))
+}
+
+fn draw_trends(path: &Path, t: &Trends) -> Result<()> {
+    let root = BitMapBackend::new(path, (1400, 1040)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| draw_err(path, e))?;
+    // One key for the four panels, in a strip above them: a colour per s, dots and dashes.
+    let (strip, body) = root.split_vertically(44);
+    let mut x = 24;
+    for (g, (label, _)) in t.groups.iter().enumerate() {
+        let c = colour(g);
+        let style = TextStyle::from((FAMILY, 20)).color(&c);
+        strip
+            .draw(&Text::new(label.clone(), (x, 14), style))
+            .map_err(|e| draw_err(path, e))?;
+        x += 40 + 11 * label.len() as i32;
+    }
+    let key = "dots: measured    dashes: target (the target nu; eq 20 for the strengths)";
+    strip
+        .draw(&Text::new(key, (x + 20, 14), (FAMILY, 20)))
+        .map_err(|e| draw_err(path, e))?;
+    let panels = body.split_evenly((2, 2));
+    let (x_scale, x_desc) = match t.axis {
+        TrendAxis::D0 => (Scale::Log, "d0 / d_c"),
+        TrendAxis::Nu => (Scale::Linear, "target nu"),
+    };
+    type Pick = fn(&TrendPoint) -> Option<(f64, Option<f64>)>;
+    let picks: [(&str, &str, Pick); 4] = [
+        ("Young's modulus", "E / E_target", |p| {
+            p.e_ratio.map(|e| (e, Some(1.0)))
+        }),
+        ("Poisson's ratio", "nu", |p| {
+            p.nu.map(|n| (n, Some(p.nu_target)))
+        }),
+        ("tensile strength", "sigma_N", |p| {
+            p.tensile.map(|(m, t)| (m, Some(t)))
+        }),
+        ("shear strength", "sigma_T", |p| {
+            p.shear.map(|(m, t)| (m, Some(t)))
+        }),
+    ];
+    for (area, (title, y_desc, pick)) in panels.iter().zip(picks) {
+        let mut series: Vec<Series> = Vec::new();
+        for (g, (label, points)) in t.groups.iter().enumerate() {
+            let measured: Vec<(f64, f64)> = points
+                .iter()
+                .filter_map(|p| pick(p).map(|(m, _)| (p.x, m)))
+                .collect();
+            let target: Vec<(f64, f64)> = points
+                .iter()
+                .filter_map(|p| pick(p).and_then(|(_, t)| t).map(|t| (p.x, t)))
+                .collect();
+            if !measured.is_empty() {
+                series.push((label.clone(), measured, Mark::Points, g));
+                series.push((String::new(), target, Mark::Target, g));
+            }
+        }
+        let series: Vec<Series> = series
+            .into_iter()
+            .map(|(l, pts, m, c)| (l, x_scale.map(&pts), m, c))
+            .collect();
+        panel(path, area, (title, x_desc, y_desc), x_scale, &series)?;
+    }
+    root.present().map_err(|e| draw_err(path, e))
+}
+
+/// Linear or logarithmic x axis.
+#[derive(Clone, Copy, PartialEq)]
+enum Scale {
+    Linear,
+    Log,
+}
+
+impl Scale {
+    /// The points a log axis can show (x > 0).
+    fn map(self, pts: &[(f64, f64)]) -> Vec<(f64, f64)> {
+        match self {
+            Scale::Linear => pts.to_vec(),
+            Scale::Log => pts.iter().copied().filter(|(x, _)| *x > 0.0).collect(),
+        }
+    }
+}
+
+/// The padded range of `v` (a unit-wide one around a single value).
+fn range(v: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
+    let (lo, hi) = v
+        .filter(|x| x.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+            (a.min(x), b.max(x))
+        });
+    // No finite value: the fold leaves lo = +inf > hi = -inf.
+    if lo > hi {
+        return 0.0..1.0;
+    }
+    let pad = if hi > lo {
+        0.06 * (hi - lo)
+    } else {
+        0.5 * lo.abs().max(1e-12)
+    };
+    (lo - pad)..(hi + pad)
+}
+
+fn panel<DB: DrawingBackend>(
+    path: &Path,
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    (title, x_desc, y_desc): (&str, &str, &str),
+    x_scale: Scale,
+    series: &[Series],
+) -> Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let all = || series.iter().flat_map(|s| s.1.iter());
+    let yr = range(all().map(|p| p.1));
+    match x_scale {
+        Scale::Linear => {
+            let xr = range(all().map(|p| p.0));
+            let chart = ChartBuilder::on(area)
+                .caption(title, (FAMILY, 24))
+                .margin(14)
+                .x_label_area_size(48)
+                .y_label_area_size(72)
+                .build_cartesian_2d(xr, yr)
+                .map_err(|e| draw_err(path, e))?;
+            fill(path, chart, (x_desc, y_desc), series)
+        }
+        Scale::Log => {
+            // Positive x only (`Scale::Log` filtered them); a decade around a single value.
+            let (lo, hi) = all().fold((f64::INFINITY, 0.0f64), |(a, b), p| {
+                (a.min(p.0), b.max(p.0))
+            });
+            let (lo, hi) = if lo < hi {
+                (lo / 1.25, hi * 1.25)
+            } else {
+                (lo / 3.0, lo * 3.0)
+            };
+            let lo = if lo.is_finite() && lo > 0.0 { lo } else { 0.1 };
+            let chart = ChartBuilder::on(area)
+                .caption(title, (FAMILY, 24))
+                .margin(14)
+                .x_label_area_size(48)
+                .y_label_area_size(72)
+                .build_cartesian_2d((lo..hi.max(2.0 * lo)).log_scale(), yr)
+                .map_err(|e| draw_err(path, e))?;
+            fill(
+                path,
+                chart,
+                (&format!("{x_desc} (log scale)"), y_desc),
+                series,
+            )
+        }
+    }
+}
+
+/// Mesh, series and legend of one panel.
+fn fill<'a, DB: DrawingBackend + 'a, X>(
+    path: &Path,
+    mut chart: ChartContext<'a, DB, Cartesian2d<X, plotters::coord::types::RangedCoordf64>>,
+    (x_desc, y_desc): (&str, &str),
+    series: &[Series],
+) -> Result<()>
+where
+    DB::ErrorType: 'static,
+    X: Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>,
+{
+    let err = |e: &dyn std::fmt::Display| draw_err(path, e);
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .x_labels(8)
+        .x_label_formatter(&|v| tick(v))
+        .y_label_formatter(&|v| tick(v))
+        .label_style((FAMILY, 15))
+        .axis_desc_style((FAMILY, 17))
+        .draw()
+        .map_err(|e| err(&e))?;
+    for (_, pts, mark, c) in series {
+        let colour = colour(*c);
+        match mark {
+            Mark::Line => {
+                chart
+                    .draw_series(LineSeries::new(pts.iter().copied(), colour.stroke_width(2)))
+                    .map_err(|e| err(&e))?;
+            }
+            Mark::Points => {
+                chart
+                    .draw_series(PointSeries::of_element(
+                        pts.iter().copied(),
+                        5,
+                        colour.filled(),
+                        &|p, s, st| Circle::new(p, s, st),
+                    ))
+                    .map_err(|e| err(&e))?;
+                chart
+                    .draw_series(LineSeries::new(pts.iter().copied(), colour.stroke_width(1)))
+                    .map_err(|e| err(&e))?;
+            }
+            Mark::Target => {
+                chart
+                    .draw_series(DashedLineSeries::new(
+                        pts.iter().copied(),
+                        8,
+                        5,
+                        colour.stroke_width(2),
+                    ))
+                    .map_err(|e| err(&e))?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// "case k: nu = .., d0 = .. d_c, s = .." from what the case varies.
+fn case_label(report: &PatchReport, k: usize) -> String {
+    let c = &report.cases[k];
+    let mut s = format!("case {k}: nu = {}", c.poisson_ratio);
+    if let Some(d) = c.d0_over_dc {
+        s += &format!(", d0 = {d} d_c");
+    }
+    s + &format!(", s = {}", c.scaling)
+}
+
+/// Reads two columns of a curve CSV (header line first).
+fn read_columns(path: &Path, a: usize, b: usize) -> Result<Vec<(f64, f64)>> {
+    let bad = |reason: String| ValidationError::Curve {
+        path: path.display().to_string(),
+        reason,
+    };
+    let text = std::fs::read_to_string(path).map_err(|e| bad(e.to_string()))?;
+    text.lines()
+        .skip(1)
+        .enumerate()
+        .map(|(n, line)| {
+            let cols: Vec<&str> = line.split(',').collect();
+            let get = |i: usize| -> Result<f64> {
+                cols.get(i)
+                    .and_then(|v| v.trim().parse().ok())
+                    .ok_or_else(|| bad(format!("line {}: no number in column {}", n + 2, i + 1)))
+            };
+            Ok((get(a)?, get(b)?))
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ranges_pad_and_survive_degenerate_data() {
+        let r = range([1.0, 3.0].into_iter());
+        assert!(r.start < 1.0 && r.end > 3.0);
+        let r = range([2.0].into_iter());
+        assert!(r.start < 2.0 && r.end > 2.0);
+        assert_eq!(range([f64::NAN].into_iter()), 0.0..1.0);
+        assert_eq!(range(std::iter::empty()), 0.0..1.0);
+    }
+}
