@@ -92,7 +92,23 @@ pub(crate) fn run_config(
     print!("{text}");
     std::fs::write(out.join("summary.txt"), &text).context("writing summary.txt")?;
     println!("card: {}", out.join("card.toml").display());
+    draw_figure(&o, None, &out.join("calibration.png"))?;
     Ok(o)
+}
+
+/// Draws `calibration.png` (errors before and after, and the cost per iteration).
+pub(crate) fn draw_figure(
+    o: &calibrate::Outcome,
+    verified: Option<&calibrate::Properties>,
+    path: &Path,
+) -> Result<()> {
+    use validation::figures::calibration::{cost_series, draw, error_rows};
+    let c = &o.card;
+    let rows = error_rows(&c.targets, &c.uncalibrated, &c.calibrated, verified);
+    draw(path, &rows, &cost_series(&o.checkpoint.history))
+        .context("drawing the calibration figure (the card above is complete)")?;
+    println!("figure: {}", path.display());
+    Ok(())
 }
 
 /// Runs `cgdem calibrate`.

@@ -101,5 +101,6 @@ pub fn run(args: PipelineArgs, threads: usize) -> Result<()> {
     );
     print!("{text}");
     std::fs::write(args.out.join("summary.txt"), text)?;
+    super::cmd_calibrate::draw_figure(&o, Some(&verified), &args.out.join("calibration.png"))?;
     Ok(())
 }

@@ -1,5 +1,6 @@
 //! Figures drawn with plotters. Each figure is built from plain data series (functions that tests
 //! check against the numbers they plot) and then drawn; drawing errors carry the file name.
 
+pub mod calibration;
 pub mod patch;
 mod style;
