@@ -13,8 +13,8 @@ use anyhow::{Context, Result};
 use clap::Args;
 use dem::material::{Material, PairModel, ParamScale};
 use dem::sample::RelaxConfig;
-use dem::scenario::patch::suite::{make_sample, SampleSpec};
-use dem::scenario::patch::{run_suite, PatchSuite};
+use dem::scenario::patch::suite::{make_sample_resumable, SampleSpec};
+use dem::scenario::patch::{run_suite, PatchSuite, ProgressFile};
 use serde::Deserialize;
 
 /// Arguments of `cgdem patch`.
@@ -112,8 +112,14 @@ pub fn run_sample(args: SampleArgs, threads: usize) -> Result<()> {
     let cfg: SampleConfig = read_toml(&args.config)?;
     let mut model = PairModel::cohesive(cfg.material);
     model.scale = cfg.scale;
-    let sample = make_sample(&cfg.sample, &model, &cfg.relax, crate::parallelism(threads))?;
+    // A long relaxation keeps its progress beside the output: rerun the command to continue it.
+    let mut progress = args.out.clone().into_os_string();
+    progress.push(".progress.json");
+    let progress = ProgressFile::new(PathBuf::from(progress));
+    let par = crate::parallelism(threads);
+    let sample = make_sample_resumable(&cfg.sample, &model, &cfg.relax, par, Some(&progress))?;
     sample.save(&args.out)?;
+    dem::io::progress::remove(&progress.path)?;
     println!(
         "{} particles, volume fraction {:.4}, written to {}",
         sample.particles.len(),

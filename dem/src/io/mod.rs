@@ -1,3 +1,4 @@
 //! Output: LAMMPS-style dumps and checkpoints.
 pub mod checkpoint;
 pub mod dump;
+pub mod progress;

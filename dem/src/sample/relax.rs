@@ -25,6 +25,8 @@ use super::stats::{coordination, Coordination};
 use super::Sample;
 use crate::domain::BoxControl;
 use crate::error::{not_positive, DemError, Result};
+use crate::io::checkpoint::Checkpoint;
+use crate::io::progress::{self, ProgressFile, SaveClock};
 use crate::material::{Interactions, PairModel};
 use crate::sim::{Parallelism, RunConfig, Simulation, TimeStep};
 use crate::Vec3;
@@ -145,6 +147,30 @@ pub fn relax(
     cfg: &RelaxConfig,
     par: Parallelism,
 ) -> Result<Sample> {
+    relax_resumable(sample, model, cfg, par, None)
+}
+
+/// What a relaxation has done so far (see [`crate::io::progress`]): the phase and step are in the
+/// checkpoint (its model is still repulsive in phase 1).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct Progress {
+    /// The largest stress component over E at the last check (None before the first).
+    worst: Option<f64>,
+    /// Wall-clock seconds of the earlier runs.
+    seconds: f64,
+    sim: Checkpoint,
+}
+
+/// [`relax`], saving its progress to `progress` (at checks, every `progress.every`, and on an
+/// interrupt) and continuing from it when it holds the progress of the same inputs. The caller
+/// removes the file once the relaxed sample is safe.
+pub fn relax_resumable(
+    sample: &Sample,
+    model: &PairModel,
+    cfg: &RelaxConfig,
+    par: Parallelism,
+    progress: Option<&ProgressFile>,
+) -> Result<Sample> {
     cfg.validate()?;
     if sample.sim_box.periodic != [true; 3] {
         return Err(DemError::InvalidBox(
@@ -160,30 +186,26 @@ pub fn relax(
         global_damping: damping,
         ..RunConfig::default()
     };
-    let mut p = sample.particles.clone();
-    p.vel.iter_mut().for_each(|v| *v = Vec3::zeros());
-    p.omega.iter_mut().for_each(|v| *v = Vec3::zeros());
-    let mut sim = Simulation::new(p, sample.sim_box, m1, vec![], run(cfg.phase1_damping), par)?;
+    let key = progress::key(&(model, cfg), sample)?;
+    let saved = progress.and_then(|f| progress::load::<Progress>(&f.path, &key));
+    let (mut sim, mut worst, seconds) = match saved {
+        Some(p) => {
+            let sim = Simulation::from_checkpoint(p.sim, par)?;
+            tracing::info!(
+                step = sim.step_count(),
+                "relaxation resumed from its progress file"
+            );
+            (sim, p.worst, p.seconds)
+        }
+        None => {
+            let mut p = sample.particles.clone();
+            p.vel.iter_mut().for_each(|v| *v = Vec3::zeros());
+            p.omega.iter_mut().for_each(|v| *v = Vec3::zeros());
+            let sim = Simulation::new(p, sample.sim_box, m1, vec![], run(cfg.phase1_damping), par)?;
+            (sim, None, 0.0)
+        }
+    };
     let n = sim.particles.len();
-    tracing::info!(
-        particles = n,
-        steps = cfg.phase1_steps,
-        "relaxation phase 1: repulsion, c = {} c_c",
-        cfg.phase1_damping
-    );
-    sim.run(cfg.phase1_steps)?;
-
-    let mut m2 = model.clone();
-    m2.interactions = Interactions::NORMAL;
-    sim.set_model(m2)?;
-    sim.set_config(run(cfg.phase2_damping))?;
-    sim.set_box_control(BoxControl::Stress {
-        target: Vec3::zeros(),
-        axes: [true; 3],
-        modulus: e,
-        gain: cfg.box_gain,
-        max_strain_step: cfg.max_strain_step,
-    })?;
     let max_stress = |s: &nalgebra::Matrix3<f64>| -> f64 {
         let mut m = 0.0f64;
         for a in 0..3 {
@@ -195,26 +217,78 @@ pub fn relax(
         }
         m / e
     };
-    let mut steps2 = 0;
+    let mut clock = SaveClock::new();
+    let save = |sim: &Simulation, worst: Option<f64>, f: &ProgressFile| {
+        let state = Progress {
+            worst,
+            seconds: seconds + t0.elapsed().as_secs_f64(),
+            sim: sim.checkpoint(),
+        };
+        progress::save(&f.path, &key, &state)
+    };
+    let p1 = cfg.phase1_steps;
     let mut converged = false;
-    let mut worst = f64::INFINITY;
-    while steps2 < cfg.phase2_max_steps {
-        let k = cfg.check_every.min(cfg.phase2_max_steps - steps2);
-        sim.run(k)?;
-        steps2 += k;
-        worst = max_stress(&sim.virial_stress(None, None));
-        if steps2 % (50 * cfg.check_every) == 0 {
+    let outcome: Result<()> = (|| {
+        if sim.step_count() < p1 {
             tracing::info!(
-                step = steps2,
-                max_stress_over_e = worst,
-                "relaxation phase 2"
+                particles = n,
+                steps = cfg.phase1_steps,
+                "relaxation phase 1: repulsion, c = {} c_c",
+                cfg.phase1_damping
             );
         }
-        if worst < cfg.stress_tolerance {
-            converged = true;
-            break;
+        while sim.step_count() < p1 {
+            sim.run(cfg.check_every.min(p1 - sim.step_count()))?;
+            if let Some(f) = progress.filter(|f| clock.due(f.every)) {
+                save(&sim, worst, f)?;
+            }
         }
+        if sim.model().interactions == Interactions::REPULSIVE {
+            let mut m2 = model.clone();
+            m2.interactions = Interactions::NORMAL;
+            sim.set_model(m2)?;
+            sim.set_config(run(cfg.phase2_damping))?;
+            sim.set_box_control(BoxControl::Stress {
+                target: Vec3::zeros(),
+                axes: [true; 3],
+                modulus: e,
+                gain: cfg.box_gain,
+                max_strain_step: cfg.max_strain_step,
+            })?;
+        }
+        // Checks every `check_every` phase-2 steps, counted from the start of phase 2 whether or not
+        // the run was resumed in between.
+        loop {
+            let steps2 = sim.step_count() - p1;
+            if steps2 >= cfg.phase2_max_steps {
+                return Ok(());
+            }
+            let to_check = cfg.check_every - steps2 % cfg.check_every;
+            sim.run(to_check.min(cfg.phase2_max_steps - steps2))?;
+            let steps2 = sim.step_count() - p1;
+            let w = max_stress(&sim.virial_stress(None, None));
+            worst = Some(w);
+            if steps2.is_multiple_of(50 * cfg.check_every) {
+                tracing::info!(step = steps2, max_stress_over_e = w, "relaxation phase 2");
+            }
+            if w < cfg.stress_tolerance {
+                converged = true;
+                return Ok(());
+            }
+            if let Some(f) = progress.filter(|f| clock.due(f.every)) {
+                save(&sim, worst, f)?;
+            }
+        }
+    })();
+    if let Err(e) = outcome {
+        if let (DemError::Interrupted { .. }, Some(f)) = (&e, progress) {
+            save(&sim, worst, f)?;
+            tracing::info!(path = %f.path.display(), "relaxation progress saved: rerun to continue");
+        }
+        return Err(e);
     }
+    let steps2 = sim.step_count() - p1;
+    let worst = worst.unwrap_or(f64::INFINITY);
     if !converged {
         tracing::warn!(
             steps = steps2,
@@ -257,7 +331,7 @@ pub fn relax(
         lengths: bx.lengths(),
         coordination: coord,
         mass_factor,
-        wall_seconds: t0.elapsed().as_secs_f64(),
+        wall_seconds: seconds + t0.elapsed().as_secs_f64(),
     };
     tracing::info!(
         steps = steps2,

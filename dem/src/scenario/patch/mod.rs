@@ -18,16 +18,15 @@
 
 pub mod curve;
 pub mod elastic;
-pub mod progress;
 mod rig;
 pub mod strength;
 pub mod suite;
 
 use serde::{Deserialize, Serialize};
 
+pub use crate::io::progress::ProgressFile;
 pub use curve::{Curve, CurvePoint};
 pub use elastic::{elastic, ElasticConfig, ElasticResult};
-pub use progress::ProgressFile;
 pub use strength::{
     strength, strength_resumable, FractureResult, StrengthConfig, StrengthMode, StrengthResult,
 };

@@ -17,11 +17,11 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::progress::{self, ProgressFile, SaveClock};
 use super::rig::Rig;
 use super::{target_strength, Curve, CurvePoint, WallConfig};
 use crate::error::{not_positive, DemError, Result};
 use crate::io::checkpoint::Checkpoint;
+use crate::io::progress::{self, ProgressFile, SaveClock};
 use crate::material::PairModel;
 use crate::sample::Sample;
 use crate::sim::{Parallelism, RunConfig, Simulation, TimeStep};

@@ -6,17 +6,19 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::progress::{self, ProgressFile};
 use super::{
     elastic, strength_resumable, ElasticConfig, ElasticResult, StrengthConfig, StrengthMode,
     StrengthResult,
 };
 use crate::error::{DemError, Result};
 use crate::io::checkpoint::write_atomic;
+use crate::io::progress::{self, ProgressFile};
 use crate::material::{Material, PairModel, ParamScale};
+use crate::sample::insert::random_insertion;
 use crate::sample::insert::InsertionConfig;
+use crate::sample::relax::relax_resumable;
 use crate::sample::stats::{coordination, gap_statistics, Coordination, GapStatistics};
-use crate::sample::{amorphous, RelaxConfig, Sample, SizeDistribution};
+use crate::sample::{RelaxConfig, Sample, SizeDistribution};
 use crate::sim::Parallelism;
 use crate::Vec3;
 
@@ -168,6 +170,18 @@ pub fn make_sample(
     relax: &RelaxConfig,
     par: Parallelism,
 ) -> Result<Sample> {
+    make_sample_resumable(spec, model, relax, par, None)
+}
+
+/// [`make_sample`], with the relaxation of an amorphous sample keeping its progress in `progress`
+/// (see [`relax_resumable`]; insertion is quick and deterministic, so it is simply redone).
+pub fn make_sample_resumable(
+    spec: &SampleSpec,
+    model: &PairModel,
+    relax: &RelaxConfig,
+    par: Parallelism,
+    progress: Option<&ProgressFile>,
+) -> Result<Sample> {
     let d_c = model.material.critical_diameter();
     let rho = model.material.density;
     match spec {
@@ -203,7 +217,7 @@ pub fn make_sample(
                 density: rho,
                 seed: *seed,
             };
-            amorphous(&ins, model, relax, par)
+            relax_resumable(&random_insertion(&ins)?, model, relax, par, progress)
         }
         SampleSpec::File { path } => Sample::load(path),
     }
@@ -298,10 +312,20 @@ pub fn run_suite(suite: &PatchSuite, out: Option<&Path>, par: Parallelism) -> Re
                         kept
                     }
                     None => {
-                        let sample = make_sample(&spec, &model, &suite.relax, par)?;
+                        let relaxing = out.map(|d| ProgressFile::new(progress_path(d, k, "relax")));
+                        let sample = make_sample_resumable(
+                            &spec,
+                            &model,
+                            &suite.relax,
+                            par,
+                            relaxing.as_ref(),
+                        )?;
                         let seconds = t.elapsed().as_secs_f64();
                         if let Some(f) = &sample_file {
                             progress::save(f, &sample_key, &(&sample, seconds))?;
+                        }
+                        if let Some(r) = relaxing {
+                            progress::remove(&r.path)?;
                         }
                         (sample, seconds)
                     }

@@ -1,8 +1,8 @@
-//! Progress files of long patch tests: a strength test on a large sample runs for hours, so it saves
-//! its state (the simulation's checkpoint plus the test's own counters and curve) every few minutes
-//! and when it is interrupted (Ctrl-C), and the same call with the same inputs continues from it. The
-//! resumed test gives the same numbers to the last bit as an uninterrupted one (the checkpoint is
-//! exact, and the file is only written at step boundaries).
+//! Progress files of long runs (a strength test or a relaxation of a large sample runs for hours):
+//! the run saves its state (the simulation's checkpoint plus its own counters and records) every few
+//! minutes and when it is interrupted (Ctrl-C), and the same call with the same inputs continues from
+//! it. The resumed run gives the same numbers to the last bit as an uninterrupted one (the checkpoint
+//! is exact, and the file is only written at step boundaries).
 //!
 //! A progress file belongs to one set of inputs: it carries a key made from the test's settings, the
 //! pair model and a fingerprint of the sample, and a file with another key is left unused (and later
