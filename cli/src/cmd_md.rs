@@ -235,6 +235,14 @@ fn silica(config: Option<&Path>, out: &Path, l: &Launch) -> Result<()> {
     };
     save_record(&rec, out, "silica.json")?;
     print_summary(res, &cfg);
+    if res.tension.is_some() || res.shear.is_some() {
+        let path = out.join("silica.png");
+        let t5 = md_bridge::card::Material::table5();
+        let reference = (t5.tensile_strength, t5.shear_strength);
+        validation::figures::md::draw(&path, res.tension.as_ref(), res.shear.as_ref(), reference)
+            .context("drawing the loading curves (silica.json above is complete)")?;
+        println!("figure: {}", path.display());
+    }
     match card(res, &rec, &cfg) {
         Some(card) => {
             card.write(&out.join("card.toml"))?;

@@ -123,6 +123,9 @@ fn silica_card_from_worker_has_agreed_keys_plausible_values_and_is_cached() {
         "three planes, three different surfaces: {annealed:?}"
     );
     assert_eq!(f("restitution"), 0.9);
+    // The loading curves are drawn beside the record.
+    let png = std::fs::read(d.join("out/silica.png")).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
     let p = card["provenance"].as_table().unwrap();
     assert_eq!(p["potential"].as_str(), Some("SiO.1990.vashishta"));
     assert_eq!(p["potential_sha256"].as_str().unwrap().len(), 64);

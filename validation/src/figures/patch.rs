@@ -12,7 +12,8 @@ use std::path::{Path, PathBuf};
 use dem::scenario::patch::PatchReport;
 use plotters::prelude::*;
 
-use super::style::{colour, draw_err, ensure_font, tick, FAMILY};
+use super::chart::{draw_key, key_height, panel, Mark, Scale, Series};
+use super::style::{draw_err, ensure_font};
 use crate::error::{Result, ValidationError};
 
 /// One line of `curves.png`: (strain, stress / target strength).
@@ -143,20 +144,6 @@ pub fn draw(report: &PatchReport, dir: &Path) -> Result<Vec<PathBuf>> {
     Ok(written)
 }
 
-/// How a series is drawn.
-#[derive(Clone, Copy, PartialEq)]
-enum Mark {
-    /// Solid line (measured curves).
-    Line,
-    /// Line with circles (measured points).
-    Points,
-    /// Dashed line (targets).
-    Target,
-}
-
-/// A series ready to draw: label, points in plot coordinates, how, colour index.
-type Series = (String, Vec<(f64, f64)>, Mark, usize);
-
 fn draw_curves(path: &Path, tensile: &[CurveSeries], shear: &[CurveSeries]) -> Result<()> {
     // Cases are keyed by colour in a strip above the panels (a legend inside would hide the steep
     // early parts of the curves); a case has the same colour in both panels.
@@ -166,22 +153,11 @@ fn draw_curves(path: &Path, tensile: &[CurveSeries], shear: &[CurveSeries]) -> R
             labels.push(&c.label);
         }
     }
-    let per_row = 3;
-    let strip_h = 16 + 28 * labels.len().div_ceil(per_row) as u32;
+    let strip_h = key_height(labels.len(), 3, false);
     let root = BitMapBackend::new(path, (1400, 560 + strip_h)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| draw_err(path, e))?;
     let (strip, body) = root.split_vertically(strip_h);
-    for (k, label) in labels.iter().enumerate() {
-        let at = (
-            24 + 460 * (k % per_row) as i32,
-            10 + 28 * (k / per_row) as i32,
-        );
-        let c = colour(k);
-        let style = TextStyle::from((FAMILY, 18)).color(&c);
-        strip
-            .draw(&Text::new(label.to_string(), at, style))
-            .map_err(|e| draw_err(path, e))?;
-    }
+    draw_key(path, &strip, &labels, 3, None)?;
     let panels = body.split_evenly((1, 2));
     let as_series = |v: &[CurveSeries]| -> Vec<Series> {
         v.iter()
@@ -208,23 +184,14 @@ fn draw_curves(path: &Path, tensile: &[CurveSeries], shear: &[CurveSeries]) -> R
 }
 
 fn draw_trends(path: &Path, t: &Trends) -> Result<()> {
-    let root = BitMapBackend::new(path, (1400, 1040)).into_drawing_area();
+    // One key for the four panels: a colour per s, then what dots and dashes mean.
+    let labels: Vec<&str> = t.groups.iter().map(|(l, _)| l.as_str()).collect();
+    let note = "dots: measured    dashes: target (the target nu; eq 20 for the strengths)";
+    let strip_h = key_height(labels.len(), 6, true);
+    let root = BitMapBackend::new(path, (1400, 1000 + strip_h)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| draw_err(path, e))?;
-    // One key for the four panels, in a strip above them: a colour per s, dots and dashes.
-    let (strip, body) = root.split_vertically(44);
-    let mut x = 24;
-    for (g, (label, _)) in t.groups.iter().enumerate() {
-        let c = colour(g);
-        let style = TextStyle::from((FAMILY, 20)).color(&c);
-        strip
-            .draw(&Text::new(label.clone(), (x, 14), style))
-            .map_err(|e| draw_err(path, e))?;
-        x += 40 + 11 * label.len() as i32;
-    }
-    let key = "dots: measured    dashes: target (the target nu; eq 20 for the strengths)";
-    strip
-        .draw(&Text::new(key, (x + 20, 14), (FAMILY, 20)))
-        .map_err(|e| draw_err(path, e))?;
+    let (strip, body) = root.split_vertically(strip_h);
+    draw_key(path, &strip, &labels, 6, Some(note))?;
     let panels = body.split_evenly((2, 2));
     let (x_scale, x_desc) = match t.axis {
         TrendAxis::D0 => (Scale::Log, "d0 / d_c"),
@@ -270,153 +237,6 @@ fn draw_trends(path: &Path, t: &Trends) -> Result<()> {
     root.present().map_err(|e| draw_err(path, e))
 }
 
-/// Linear or logarithmic x axis.
-#[derive(Clone, Copy, PartialEq)]
-enum Scale {
-    Linear,
-    Log,
-}
-
-impl Scale {
-    /// The points a log axis can show (x > 0).
-    fn map(self, pts: &[(f64, f64)]) -> Vec<(f64, f64)> {
-        match self {
-            Scale::Linear => pts.to_vec(),
-            Scale::Log => pts.iter().copied().filter(|(x, _)| *x > 0.0).collect(),
-        }
-    }
-}
-
-/// The padded range of `v` (a unit-wide one around a single value).
-fn range(v: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
-    let (lo, hi) = v
-        .filter(|x| x.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
-            (a.min(x), b.max(x))
-        });
-    // No finite value: the fold leaves lo = +inf > hi = -inf.
-    if lo > hi {
-        return 0.0..1.0;
-    }
-    let pad = if hi > lo {
-        0.06 * (hi - lo)
-    } else {
-        0.5 * lo.abs().max(1e-12)
-    };
-    (lo - pad)..(hi + pad)
-}
-
-fn panel<DB: DrawingBackend>(
-    path: &Path,
-    area: &DrawingArea<DB, plotters::coord::Shift>,
-    (title, x_desc, y_desc): (&str, &str, &str),
-    x_scale: Scale,
-    series: &[Series],
-) -> Result<()>
-where
-    DB::ErrorType: 'static,
-{
-    let all = || series.iter().flat_map(|s| s.1.iter());
-    let yr = range(all().map(|p| p.1));
-    match x_scale {
-        Scale::Linear => {
-            let xr = range(all().map(|p| p.0));
-            let chart = ChartBuilder::on(area)
-                .caption(title, (FAMILY, 24))
-                .margin(14)
-                .x_label_area_size(48)
-                .y_label_area_size(72)
-                .build_cartesian_2d(xr, yr)
-                .map_err(|e| draw_err(path, e))?;
-            fill(path, chart, (x_desc, y_desc), series)
-        }
-        Scale::Log => {
-            // Positive x only (`Scale::Log` filtered them); a decade around a single value.
-            let (lo, hi) = all().fold((f64::INFINITY, 0.0f64), |(a, b), p| {
-                (a.min(p.0), b.max(p.0))
-            });
-            let (lo, hi) = if lo < hi {
-                (lo / 1.25, hi * 1.25)
-            } else {
-                (lo / 3.0, lo * 3.0)
-            };
-            let lo = if lo.is_finite() && lo > 0.0 { lo } else { 0.1 };
-            let chart = ChartBuilder::on(area)
-                .caption(title, (FAMILY, 24))
-                .margin(14)
-                .x_label_area_size(48)
-                .y_label_area_size(72)
-                .build_cartesian_2d((lo..hi.max(2.0 * lo)).log_scale(), yr)
-                .map_err(|e| draw_err(path, e))?;
-            fill(
-                path,
-                chart,
-                (&format!("{x_desc} (log scale)"), y_desc),
-                series,
-            )
-        }
-    }
-}
-
-/// Mesh, series and legend of one panel.
-fn fill<'a, DB: DrawingBackend + 'a, X>(
-    path: &Path,
-    mut chart: ChartContext<'a, DB, Cartesian2d<X, plotters::coord::types::RangedCoordf64>>,
-    (x_desc, y_desc): (&str, &str),
-    series: &[Series],
-) -> Result<()>
-where
-    DB::ErrorType: 'static,
-    X: Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>,
-{
-    let err = |e: &dyn std::fmt::Display| draw_err(path, e);
-    chart
-        .configure_mesh()
-        .x_desc(x_desc)
-        .y_desc(y_desc)
-        .x_labels(8)
-        .x_label_formatter(&|v| tick(v))
-        .y_label_formatter(&|v| tick(v))
-        .label_style((FAMILY, 15))
-        .axis_desc_style((FAMILY, 17))
-        .draw()
-        .map_err(|e| err(&e))?;
-    for (_, pts, mark, c) in series {
-        let colour = colour(*c);
-        match mark {
-            Mark::Line => {
-                chart
-                    .draw_series(LineSeries::new(pts.iter().copied(), colour.stroke_width(2)))
-                    .map_err(|e| err(&e))?;
-            }
-            Mark::Points => {
-                chart
-                    .draw_series(PointSeries::of_element(
-                        pts.iter().copied(),
-                        5,
-                        colour.filled(),
-                        &|p, s, st| Circle::new(p, s, st),
-                    ))
-                    .map_err(|e| err(&e))?;
-                chart
-                    .draw_series(LineSeries::new(pts.iter().copied(), colour.stroke_width(1)))
-                    .map_err(|e| err(&e))?;
-            }
-            Mark::Target => {
-                chart
-                    .draw_series(DashedLineSeries::new(
-                        pts.iter().copied(),
-                        8,
-                        5,
-                        colour.stroke_width(2),
-                    ))
-                    .map_err(|e| err(&e))?;
-            }
-        }
-    }
-    Ok(())
-}
-
 /// "case k: nu = .., d0 = .. d_c, s = .." from what the case varies.
 fn case_label(report: &PatchReport, k: usize) -> String {
     let c = &report.cases[k];
@@ -447,19 +267,4 @@ fn read_columns(path: &Path, a: usize, b: usize) -> Result<Vec<(f64, f64)>> {
             Ok((get(a)?, get(b)?))
         })
         .collect()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn ranges_pad_and_survive_degenerate_data() {
-        let r = range([1.0, 3.0].into_iter());
-        assert!(r.start < 1.0 && r.end > 3.0);
-        let r = range([2.0].into_iter());
-        assert!(r.start < 2.0 && r.end > 2.0);
-        assert_eq!(range([f64::NAN].into_iter()), 0.0..1.0);
-        assert_eq!(range(std::iter::empty()), 0.0..1.0);
-    }
 }
