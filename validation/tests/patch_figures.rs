@@ -64,6 +64,8 @@ fn figures_plot_the_campaigns_numbers() {
         assert_eq!(p.nu, Some(e.poisson_ratio));
         assert_eq!(p.tensile, Some((s.strength, s.target_strength)));
         assert_eq!(p.shear, None, "no shear test in this campaign");
+        assert_eq!(p.volume_fraction, c.volume_fraction);
+        assert_eq!(p.coordination, c.coordination.interacting);
     }
 
     // The curves come back from the CSV files (9 significant digits) as stress over target.
@@ -97,9 +99,18 @@ fn figures_plot_the_campaigns_numbers() {
     let names: Vec<_> = written.iter().map(|p| p.file_name().unwrap()).collect();
     assert_eq!(names, ["curves.png", "trends.png"]);
     let (w, h) = png_size(&written[1]);
-    assert!(w == 1400 && h > 1000, "{w} x {h}");
+    assert!(w == 1400 && h > 1500, "{w} x {h}");
     let (w, h) = png_size(&written[0]);
     assert!(w == 1400 && h > 560, "{w} x {h}");
+
+    // The same cases as a d0 sweep from 0.6 to 19.2 d_c: a log axis over the range on which
+    // plotters' own log scale looped forever (the figure must come back).
+    let mut v = serde_json::to_value(&report).unwrap();
+    v["cases"][0]["d0_over_dc"] = serde_json::json!(0.6);
+    v["cases"][1]["d0_over_dc"] = serde_json::json!(19.2);
+    let swept: dem::scenario::patch::PatchReport = serde_json::from_value(v).unwrap();
+    assert_eq!(trends(&swept).unwrap().axis, TrendAxis::D0);
+    assert_eq!(draw(&swept, &dir).unwrap().len(), 2);
 
     // A damaged curve file is a clear error naming the line.
     std::fs::write(

@@ -11,7 +11,8 @@ use std::path::Path;
 use calibrate::{Properties, Record, Target};
 use plotters::prelude::*;
 
-use super::style::{colour, draw_err, ensure_font, tick, FAMILY};
+use super::chart::{log_axis, log_ticks, Axis};
+use super::style::{colour, draw_err, ensure_font, FAMILY};
 use crate::error::Result;
 
 /// The relative errors of one target property, in percent.
@@ -95,9 +96,10 @@ pub fn draw(path: &Path, rows: &[ErrorRow], costs: &[(usize, f64)]) -> Result<()
         .fold(f64::INFINITY, f64::min)
         .min(0.1)
         / 3.0;
-    let floor = if floor.is_finite() { floor } else { 1e-3 };
-    // Room above the tallest bar for the legend.
-    let top = values().fold(1.0, f64::max) * 12.0;
+    // Log10 coordinates throughout (see `chart::log_axis`); room above the tallest bar for the
+    // legend.
+    let floor = if floor.is_finite() { floor } else { 1e-3 }.log10();
+    let top = (values().fold(1.0, f64::max) * 12.0).log10();
     let n = rows.len().max(1) as f64;
     let names: Vec<&str> = rows.iter().map(|r| r.name).collect();
     let mut chart = ChartBuilder::on(&left)
@@ -105,7 +107,7 @@ pub fn draw(path: &Path, rows: &[ErrorRow], costs: &[(usize, f64)]) -> Result<()
         .margin(14)
         .x_label_area_size(48)
         .y_label_area_size(72)
-        .build_cartesian_2d(-0.5..n - 0.5, (floor..top).log_scale())
+        .build_cartesian_2d(-0.5..n - 0.5, floor..top)
         .map_err(|e| err(&e))?;
     let x_name = |v: &f64| {
         let k = v.round();
@@ -122,16 +124,18 @@ pub fn draw(path: &Path, rows: &[ErrorRow], costs: &[(usize, f64)]) -> Result<()
         .disable_x_mesh()
         .x_labels(2 * rows.len() + 1)
         .x_label_formatter(&x_name)
-        .y_label_formatter(&|v| tick(v))
+        .y_labels(0)
+        .disable_y_mesh()
         .y_desc("|measured - target| / target (%)")
         .label_style((FAMILY, 15))
         .axis_desc_style((FAMILY, 17))
         .draw()
         .map_err(|e| err(&e))?;
+    log_axis(path, &left, &mut chart, Axis::Y, &log_ticks(floor, top))?;
     for (s, (label, f)) in kinds.iter().enumerate() {
         let c = colour(s);
         let bars = rows.iter().enumerate().filter_map(|(k, r)| {
-            let v = f(r)?.abs().max(floor);
+            let v = f(r)?.abs().log10().max(floor);
             let x0 = k as f64 - 0.36 + 0.24 * s as f64;
             Some(Rectangle::new([(x0, floor), (x0 + 0.22, v)], c.filled()))
         });
@@ -160,16 +164,16 @@ pub fn draw(path: &Path, rows: &[ErrorRow], costs: &[(usize, f64)]) -> Result<()
         .filter(|c| *c > 0.0)
         .fold((f64::INFINITY, 0.0f64), |(a, b), c| (a.min(c), b.max(c)));
     let (lo, hi) = if lo <= hi {
-        (lo / 3.0, hi * 3.0)
+        (lo.log10() - 0.5, hi.log10() + 0.5)
     } else {
-        (1e-6, 1.0)
+        (-6.0, 0.0)
     };
     let mut chart = ChartBuilder::on(&right)
         .caption("least-squares cost", (FAMILY, 24))
         .margin(14)
         .x_label_area_size(48)
         .y_label_area_size(72)
-        .build_cartesian_2d(-0.2..last + 0.2, (lo..hi).log_scale())
+        .build_cartesian_2d(-0.2..last + 0.2, lo..hi)
         .map_err(|e| err(&e))?;
     chart
         .configure_mesh()
@@ -181,17 +185,19 @@ pub fn draw(path: &Path, rows: &[ErrorRow], costs: &[(usize, f64)]) -> Result<()
                 String::new()
             }
         })
-        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .y_labels(0)
+        .disable_y_mesh()
         .x_desc("Levenberg-Marquardt iteration")
         .y_desc("1/2 |r|^2")
         .label_style((FAMILY, 15))
         .axis_desc_style((FAMILY, 17))
         .draw()
         .map_err(|e| err(&e))?;
+    log_axis(path, &right, &mut chart, Axis::Y, &log_ticks(lo, hi))?;
     let pts: Vec<(f64, f64)> = costs
         .iter()
         .filter(|c| c.1 > 0.0)
-        .map(|&(k, c)| (k as f64, c))
+        .map(|&(k, c)| (k as f64, c.log10()))
         .collect();
     let c = colour(0);
     chart

@@ -3,7 +3,9 @@
 
 use std::path::Path;
 
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::style::{colour, draw_err, tick, FAMILY};
 use crate::error::Result;
@@ -30,12 +32,59 @@ pub(crate) enum Scale {
 }
 
 impl Scale {
-    /// The points a log axis can show (x > 0).
+    /// The points in plot coordinates: a log axis plots log10 x (of the points with x > 0).
+    ///
+    /// Decision: log axes are drawn as linear axes of log10 values with ticks at 1, 2, 5 x 10^k
+    /// (see [`log_ticks`]) rather than with plotters' `log_scale()`, whose tick search looped
+    /// forever on a range of 0.48..24 (a d0 sweep to 19.2 d_c) in plotters 0.3.7.
     pub(crate) fn map(self, pts: &[(f64, f64)]) -> Vec<(f64, f64)> {
         match self {
             Scale::Linear => pts.to_vec(),
-            Scale::Log => pts.iter().copied().filter(|(x, _)| *x > 0.0).collect(),
+            Scale::Log => pts
+                .iter()
+                .filter(|(x, _)| *x > 0.0)
+                .map(|&(x, y)| (x.log10(), y))
+                .collect(),
         }
+    }
+}
+
+/// Ticks of a log10 axis spanning `lo..hi` (log10 values): the log10 of 1, 2 and 5 x 10^k inside
+/// it, thinned to whole decades when there are more than 12; the ends when none falls inside.
+pub(crate) fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
+    if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+        return vec![];
+    }
+    let inside = |mantissas: &[f64]| -> Vec<f64> {
+        let (k0, k1) = (lo.floor() as i32, hi.ceil() as i32);
+        (k0..=k1)
+            .flat_map(|k| mantissas.iter().map(move |m| m.log10() + k as f64))
+            .filter(|v| (lo..=hi).contains(v))
+            .collect()
+    };
+    let mut t = inside(&[1.0, 2.0, 5.0]);
+    if t.len() > 12 {
+        t = inside(&[1.0]);
+    }
+    if t.is_empty() {
+        t = vec![lo, hi];
+    }
+    t
+}
+
+/// A tick label for log10 value `v`: 10^v with three significant digits.
+pub(crate) fn log_label(v: &f64) -> String {
+    let x = 10f64.powf(*v);
+    if (1e-3..1e5).contains(&x) {
+        let digits = (2 - x.log10().floor() as i32).max(0) as usize;
+        let s = format!("{x:.digits$}");
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    } else {
+        format!("{x:.0e}")
     }
 }
 
@@ -68,6 +117,21 @@ pub(crate) fn panel<DB: DrawingBackend>(
 where
     DB::ErrorType: 'static,
 {
+    if series.iter().all(|s| s.1.is_empty()) {
+        // Nothing measured (the campaign did not run this test): say so instead of empty axes.
+        let inner = area
+            .titled(title, (FAMILY, 24))
+            .map_err(|e| draw_err(path, e))?;
+        let (w, h) = inner.dim_in_pixel();
+        let style = TextStyle::from((FAMILY, 18)).pos(Pos::new(HPos::Center, VPos::Center));
+        return inner
+            .draw(&Text::new(
+                "not measured in this campaign",
+                (w as i32 / 2, h as i32 / 2),
+                style,
+            ))
+            .map_err(|e| draw_err(path, e));
+    }
     let all = || series.iter().flat_map(|s| s.1.iter());
     let yr = range(all().map(|p| p.1));
     match x_scale {
@@ -80,59 +144,125 @@ where
                 .y_label_area_size(72)
                 .build_cartesian_2d(xr, yr)
                 .map_err(|e| draw_err(path, e))?;
-            fill(path, chart, (x_desc, y_desc), series)
+            fill(path, area, chart, (x_desc, y_desc), None, series)
         }
         Scale::Log => {
-            // Positive x only (`Scale::Log` filtered them); a decade around a single value.
-            let (lo, hi) = all().fold((f64::INFINITY, 0.0f64), |(a, b), p| {
+            // The series are in log10 x already (`Scale::map`); a third of a decade of margin.
+            let (lo, hi) = all().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
                 (a.min(p.0), b.max(p.0))
             });
             let (lo, hi) = if lo < hi {
-                (lo / 1.25, hi * 1.25)
+                (lo - 0.1, hi + 0.1)
             } else {
-                (lo / 3.0, lo * 3.0)
+                (lo - 0.5, lo + 0.5)
             };
-            let lo = if lo.is_finite() && lo > 0.0 { lo } else { 0.1 };
+            let (lo, hi) = if lo.is_finite() {
+                (lo, hi)
+            } else {
+                (-1.0, 1.0)
+            };
             let chart = ChartBuilder::on(area)
                 .caption(title, (FAMILY, 24))
                 .margin(14)
                 .x_label_area_size(48)
                 .y_label_area_size(72)
-                .build_cartesian_2d((lo..hi.max(2.0 * lo)).log_scale(), yr)
+                .build_cartesian_2d(lo..hi, yr)
                 .map_err(|e| draw_err(path, e))?;
+            let desc = format!("{x_desc} (log scale)");
             fill(
                 path,
+                area,
                 chart,
-                (&format!("{x_desc} (log scale)"), y_desc),
+                (&desc, y_desc),
+                Some(log_ticks(lo, hi)),
                 series,
             )
         }
     }
 }
 
-/// Mesh, series and legend of one panel.
-fn fill<'a, DB: DrawingBackend + 'a, X>(
+/// Which axis of a chart.
+#[derive(Clone, Copy, PartialEq)]
+pub(crate) enum Axis {
+    X,
+    Y,
+}
+
+/// Grid lines and 10^v labels of a log10 axis at `ticks` (log10 values), drawn by hand: the mesh
+/// of such an axis is configured without labels (`x_labels(0)` or `y_labels(0)`).
+pub(crate) fn log_axis<'a, DB: DrawingBackend + 'a>(
     path: &Path,
-    mut chart: ChartContext<'a, DB, Cartesian2d<X, plotters::coord::types::RangedCoordf64>>,
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    axis: Axis,
+    ticks: &[f64],
+) -> Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let err = |e: &dyn std::fmt::Display| draw_err(path, e);
+    let (x0, x1) = (chart.x_range().start, chart.x_range().end);
+    let (y0, y1) = (chart.y_range().start, chart.y_range().end);
+    let grid = RGBColor(200, 200, 200);
+    let (bx, by) = area.get_base_pixel();
+    for &t in ticks {
+        let (line, anchor, label_at) = match axis {
+            Axis::X => (
+                [(t, y0), (t, y1)],
+                Pos::new(HPos::Center, VPos::Top),
+                (t, y0),
+            ),
+            Axis::Y => (
+                [(x0, t), (x1, t)],
+                Pos::new(HPos::Right, VPos::Center),
+                (x0, t),
+            ),
+        };
+        chart
+            .draw_series(LineSeries::new(line, grid.stroke_width(1)))
+            .map_err(|e| err(&e))?;
+        // Labels sit outside the plotting area, in the panel's own pixel frame.
+        let (px, py) = chart.backend_coord(&label_at);
+        let (dx, dy) = if axis == Axis::X { (0, 6) } else { (-6, 0) };
+        let style = TextStyle::from((FAMILY, 15)).pos(anchor);
+        area.draw(&Text::new(
+            log_label(&t),
+            (px - bx + dx, py - by + dy),
+            style,
+        ))
+        .map_err(|e| err(&e))?;
+    }
+    Ok(())
+}
+
+/// Mesh and series of one panel; `log_x` holds the ticks of a log10 x axis (drawn here: grid
+/// lines and 10^v labels at 1, 2, 5 x 10^k), `None` for a linear one.
+fn fill<'a, DB: DrawingBackend + 'a>(
+    path: &Path,
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    mut chart: ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
     (x_desc, y_desc): (&str, &str),
+    log_x: Option<Vec<f64>>,
     series: &[Series],
 ) -> Result<()>
 where
     DB::ErrorType: 'static,
-    X: Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>,
 {
     let err = |e: &dyn std::fmt::Display| draw_err(path, e);
-    chart
-        .configure_mesh()
-        .x_desc(x_desc)
+    let mut mesh = chart.configure_mesh();
+    mesh.x_desc(x_desc)
         .y_desc(y_desc)
-        .x_labels(8)
-        .x_label_formatter(&|v| tick(v))
         .y_label_formatter(&|v| tick(v))
         .label_style((FAMILY, 15))
-        .axis_desc_style((FAMILY, 17))
-        .draw()
-        .map_err(|e| err(&e))?;
+        .axis_desc_style((FAMILY, 17));
+    match &log_x {
+        None => mesh.x_labels(8).x_label_formatter(&|v| tick(v)),
+        Some(_) => mesh.x_labels(0).disable_x_mesh(),
+    };
+    mesh.draw().map_err(|e| err(&e))?;
+    if let Some(ticks) = &log_x {
+        log_axis(path, area, &mut chart, Axis::X, ticks)?;
+    }
     for (_, pts, mark, c) in series {
         let colour = colour(*c);
         match mark {
@@ -211,6 +341,20 @@ where
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn log_ticks_are_one_two_five_and_terminate_where_plotters_looped() {
+        // The d0 sweep 0.6..19.2 d_c with its margins, which hung plotters' log_scale().
+        let (lo, hi) = (0.48f64.log10(), 24f64.log10());
+        let labels: Vec<String> = log_ticks(lo, hi).iter().map(log_label).collect();
+        assert_eq!(labels, ["0.5", "1", "2", "5", "10", "20"]);
+        // Many decades: whole decades only; a sliver of a decade: its ends.
+        let wide = log_ticks(-8.0, 2.0);
+        assert_eq!(wide.len(), 11);
+        assert_eq!(log_label(&wide[0]), "1e-8");
+        assert_eq!(log_ticks(0.31, 0.32), [0.31, 0.32]);
+        assert!(log_ticks(1.0, 1.0).is_empty() && log_ticks(f64::NAN, 1.0).is_empty());
+    }
+
     use super::*;
 
     #[test]

@@ -66,7 +66,13 @@ pub struct TrendPoint {
     /// (measured, target of eq 20).
     pub tensile: Option<(f64, f64)>,
     pub shear: Option<(f64, f64)>,
+    /// The sample's volume fraction and mean number of interacting partners.
+    pub volume_fraction: f64,
+    pub coordination: f64,
 }
+
+/// Volume fraction of the HCP lattice, pi / (3 sqrt 2): the reference of paper 000 Fig. 7.
+pub const HCP_VOLUME_FRACTION: f64 = std::f64::consts::PI / (3.0 * std::f64::consts::SQRT_2);
 
 /// The cases grouped by scaling exponent s, against the swept variable.
 #[derive(Debug, Clone, PartialEq)]
@@ -108,6 +114,8 @@ pub fn trends(report: &PatchReport) -> Option<Trends> {
             nu_target: c.poisson_ratio,
             tensile: c.tensile.as_ref().map(|t| (t.strength, t.target_strength)),
             shear: c.shear.as_ref().map(|t| (t.strength, t.target_strength)),
+            volume_fraction: c.volume_fraction,
+            coordination: c.coordination.interacting,
         };
         match groups.iter_mut().find(|(s, _)| *s == c.scaling) {
             Some((_, points)) => points.push(point),
@@ -186,19 +194,19 @@ fn draw_curves(path: &Path, tensile: &[CurveSeries], shear: &[CurveSeries]) -> R
 fn draw_trends(path: &Path, t: &Trends) -> Result<()> {
     // One key for the four panels: a colour per s, then what dots and dashes mean.
     let labels: Vec<&str> = t.groups.iter().map(|(l, _)| l.as_str()).collect();
-    let note = "dots: measured    dashes: target (the target nu; eq 20 for the strengths)";
+    let note = "dots: measured    dashes: target (the target nu; eq 20 for the strengths; HCP for the volume fraction)";
     let strip_h = key_height(labels.len(), 6, true);
-    let root = BitMapBackend::new(path, (1400, 1000 + strip_h)).into_drawing_area();
+    let root = BitMapBackend::new(path, (1400, 1500 + strip_h)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| draw_err(path, e))?;
     let (strip, body) = root.split_vertically(strip_h);
     draw_key(path, &strip, &labels, 6, Some(note))?;
-    let panels = body.split_evenly((2, 2));
+    let panels = body.split_evenly((3, 2));
     let (x_scale, x_desc) = match t.axis {
         TrendAxis::D0 => (Scale::Log, "d0 / d_c"),
         TrendAxis::Nu => (Scale::Linear, "target nu"),
     };
     type Pick = fn(&TrendPoint) -> Option<(f64, Option<f64>)>;
-    let picks: [(&str, &str, Pick); 4] = [
+    let picks: [(&str, &str, Pick); 6] = [
         ("Young's modulus", "E / E_target", |p| {
             p.e_ratio.map(|e| (e, Some(1.0)))
         }),
@@ -210,6 +218,12 @@ fn draw_trends(path: &Path, t: &Trends) -> Result<()> {
         }),
         ("shear strength", "sigma_T", |p| {
             p.shear.map(|(m, t)| (m, Some(t)))
+        }),
+        ("relaxed volume fraction (Fig. 7)", "volume fraction", |p| {
+            Some((p.volume_fraction, Some(HCP_VOLUME_FRACTION)))
+        }),
+        ("coordination", "interacting partners per particle", |p| {
+            Some((p.coordination, None))
         }),
     ];
     for (area, (title, y_desc, pick)) in panels.iter().zip(picks) {
