@@ -11,7 +11,7 @@ use std::path::Path;
 use calibrate::{Properties, Record, Target};
 use plotters::prelude::*;
 
-use super::chart::{log_axis, log_ticks, Axis};
+use super::chart::{builder, log_axis, log_ticks, Axis};
 use super::style::{colour, draw_err, ensure_font, FAMILY};
 use crate::error::Result;
 
@@ -102,11 +102,7 @@ pub fn draw(path: &Path, rows: &[ErrorRow], costs: &[(usize, f64)]) -> Result<()
     let top = (values().fold(1.0, f64::max) * 12.0).log10();
     let n = rows.len().max(1) as f64;
     let names: Vec<&str> = rows.iter().map(|r| r.name).collect();
-    let mut chart = ChartBuilder::on(&left)
-        .caption("error against target", (FAMILY, 24))
-        .margin(14)
-        .x_label_area_size(48)
-        .y_label_area_size(72)
+    let mut chart = builder(&left, "error against target")
         .build_cartesian_2d(-0.5..n - 0.5, floor..top)
         .map_err(|e| err(&e))?;
     let x_name = |v: &f64| {
@@ -168,11 +164,7 @@ pub fn draw(path: &Path, rows: &[ErrorRow], costs: &[(usize, f64)]) -> Result<()
     } else {
         (-6.0, 0.0)
     };
-    let mut chart = ChartBuilder::on(&right)
-        .caption("least-squares cost", (FAMILY, 24))
-        .margin(14)
-        .x_label_area_size(48)
-        .y_label_area_size(72)
+    let mut chart = builder(&right, "least-squares cost")
         .build_cartesian_2d(-0.2..last + 0.2, lo..hi)
         .map_err(|e| err(&e))?;
     chart

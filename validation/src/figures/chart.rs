@@ -137,11 +137,7 @@ where
     match x_scale {
         Scale::Linear => {
             let xr = range(all().map(|p| p.0));
-            let chart = ChartBuilder::on(area)
-                .caption(title, (FAMILY, 24))
-                .margin(14)
-                .x_label_area_size(48)
-                .y_label_area_size(72)
+            let chart = builder(area, title)
                 .build_cartesian_2d(xr, yr)
                 .map_err(|e| draw_err(path, e))?;
             fill(path, area, chart, (x_desc, y_desc), None, series)
@@ -161,11 +157,7 @@ where
             } else {
                 (-1.0, 1.0)
             };
-            let chart = ChartBuilder::on(area)
-                .caption(title, (FAMILY, 24))
-                .margin(14)
-                .x_label_area_size(48)
-                .y_label_area_size(72)
+            let chart = builder(area, title)
                 .build_cartesian_2d(lo..hi, yr)
                 .map_err(|e| draw_err(path, e))?;
             let desc = format!("{x_desc} (log scale)");
@@ -299,14 +291,43 @@ where
     Ok(())
 }
 
-/// A colour key above the panels (a legend inside a panel hides data): entry `k` of `labels` in
-/// colour `k`, `per_row` to a row, then an optional line of black text. Returns the strip's height.
-pub(crate) fn key_height(labels: usize, per_row: usize, note: bool) -> u32 {
-    16 + 28 * (labels.div_ceil(per_row.max(1)) + usize::from(note)) as u32
+/// The frame every panel shares: its title, margins and label areas.
+pub(crate) fn builder<'a, 'b, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, plotters::coord::Shift>,
+    title: &'b str,
+) -> ChartBuilder<'a, 'b, DB> {
+    let mut b = ChartBuilder::on(area);
+    b.caption(title, (FAMILY, 24))
+        .margin(14)
+        .x_label_area_size(48)
+        .y_label_area_size(72);
+    b
 }
 
-/// Draws the key of [`key_height`] into `strip` (as wide as the figure).
-pub(crate) fn draw_key<DB: DrawingBackend>(
+/// A figure file of `width` x `body_height` pixels below a colour key (a legend inside a panel
+/// hides data): entry `k` of `labels` in colour `k`, `per_row` to a row, then an optional line of
+/// black text. Returns the whole figure (to `present`) and the area below the key.
+pub(crate) fn keyed_figure<'a>(
+    path: &'a Path,
+    (width, body_height): (u32, u32),
+    labels: &[&str],
+    per_row: usize,
+    note: Option<&str>,
+) -> Result<(Area<'a>, Area<'a>)> {
+    let rows = labels.len().div_ceil(per_row.max(1)) + usize::from(note.is_some());
+    let strip_h = 16 + 28 * rows as u32;
+    let root = BitMapBackend::new(path, (width, body_height + strip_h)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| draw_err(path, e))?;
+    let (strip, body) = root.split_vertically(strip_h);
+    draw_key(path, &strip, labels, per_row, note)?;
+    Ok((root, body))
+}
+
+/// A drawing area of a PNG figure.
+pub(crate) type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
+
+/// Draws the key of [`keyed_figure`] into `strip` (as wide as the figure).
+fn draw_key<DB: DrawingBackend>(
     path: &Path,
     strip: &DrawingArea<DB, plotters::coord::Shift>,
     labels: &[&str],

@@ -5,9 +5,8 @@
 use std::path::Path;
 
 use md_bridge::loading::Strength;
-use plotters::prelude::*;
 
-use super::chart::{draw_key, key_height, panel, Mark, Scale, Series};
+use super::chart::{keyed_figure, panel, Mark, Scale, Series};
 use super::style::{draw_err, ensure_font};
 use crate::error::Result;
 
@@ -27,11 +26,7 @@ pub fn draw(
 ) -> Result<()> {
     ensure_font()?;
     let labels = ["MD, this card (dot: the peak)", "paper 000 Table 5"];
-    let strip_h = key_height(labels.len(), 2, false);
-    let root = BitMapBackend::new(path, (1400, 560 + strip_h)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| draw_err(path, e))?;
-    let (strip, body) = root.split_vertically(strip_h);
-    draw_key(path, &strip, &labels, 2, None)?;
+    let (root, body) = keyed_figure(path, (1400, 560), &labels, 2, None)?;
     let panels = body.split_evenly((1, 2));
     let tests = [
         (

@@ -10,9 +10,8 @@
 use std::path::{Path, PathBuf};
 
 use dem::scenario::patch::PatchReport;
-use plotters::prelude::*;
 
-use super::chart::{draw_key, key_height, panel, Mark, Scale, Series};
+use super::chart::{keyed_figure, panel, Mark, Scale, Series};
 use super::style::{draw_err, ensure_font};
 use crate::error::{Result, ValidationError};
 
@@ -161,11 +160,7 @@ fn draw_curves(path: &Path, tensile: &[CurveSeries], shear: &[CurveSeries]) -> R
             labels.push(&c.label);
         }
     }
-    let strip_h = key_height(labels.len(), 3, false);
-    let root = BitMapBackend::new(path, (1400, 560 + strip_h)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| draw_err(path, e))?;
-    let (strip, body) = root.split_vertically(strip_h);
-    draw_key(path, &strip, &labels, 3, None)?;
+    let (root, body) = keyed_figure(path, (1400, 560), &labels, 3, None)?;
     let panels = body.split_evenly((1, 2));
     let as_series = |v: &[CurveSeries]| -> Vec<Series> {
         v.iter()
@@ -195,11 +190,7 @@ fn draw_trends(path: &Path, t: &Trends) -> Result<()> {
     // One key for the four panels: a colour per s, then what dots and dashes mean.
     let labels: Vec<&str> = t.groups.iter().map(|(l, _)| l.as_str()).collect();
     let note = "dots: measured    dashes: target (the target nu; eq 20 for the strengths; HCP for the volume fraction)";
-    let strip_h = key_height(labels.len(), 6, true);
-    let root = BitMapBackend::new(path, (1400, 1500 + strip_h)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| draw_err(path, e))?;
-    let (strip, body) = root.split_vertically(strip_h);
-    draw_key(path, &strip, &labels, 6, Some(note))?;
+    let (root, body) = keyed_figure(path, (1400, 1500), &labels, 6, Some(note))?;
     let panels = body.split_evenly((3, 2));
     let (x_scale, x_desc) = match t.axis {
         TrendAxis::D0 => (Scale::Log, "d0 / d_c"),

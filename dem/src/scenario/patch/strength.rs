@@ -309,12 +309,11 @@ pub fn strength_resumable(
             wall_traction_y: tr.y,
             wall_traction_x: tr.x,
         });
-        let peak = st.peak.unwrap_or(f64::NEG_INFINITY);
-        if value > peak {
+        if st.peak.is_none_or(|p| value > p) {
             st.peak = Some(value);
             st.peak_strain = strain;
         }
-        let peak = st.peak.unwrap_or(f64::NEG_INFINITY);
+        let peak = st.peak.unwrap_or(value);
         if st.steps % every < cfg.record_every {
             tracing::info!(mode = ?cfg.mode, step = st.steps, strain, stress = value, peak, "strength test");
         }

@@ -460,7 +460,8 @@ pub fn write_report(dir: &Path, report: &PatchReport) -> Result<()> {
     write_atomic(&path, &bytes)
 }
 
-/// Where case `k`'s strength test `name` keeps its progress inside the campaign directory.
+/// Where case `k`'s run `name` (its relaxation, relaxed sample or a strength test) keeps its
+/// progress inside the campaign directory.
 pub fn progress_path(dir: &Path, k: usize, name: &str) -> PathBuf {
     dir.join(format!("case{k}_{name}.progress.json"))
 }
