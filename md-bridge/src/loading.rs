@@ -71,6 +71,34 @@ pub fn load_curve(
     Ok(curve)
 }
 
+/// Simple shear in xy at constant volume and temperature `t` (thermostat damping `t_damp`, SLLOD
+/// with the streaming velocity removed from the temperature) from the box tilt `xy0`, recorded by
+/// [`load_curve`] as engineering shear strain (xy - xy0) / ly against -pxy. Leaves no fix behind.
+#[allow(clippy::too_many_arguments)]
+pub fn simple_shear(
+    lmp: &Lammps,
+    xy0: f64,
+    rate: f64,
+    t: f64,
+    t_damp: f64,
+    ramp: &Ramp,
+    max_strain: f64,
+    drop: f64,
+) -> Result<Curve> {
+    lmp.commands(&format!(
+        "variable xy0 equal {xy0}
+variable gxy equal (xy-v_xy0)/ly
+variable sxy equal -pxy
+compute tdef all temp/deform
+fix def all deform 1 xy erate {rate} remap v flip no
+fix md all nvt/sllod temp {t} {t} {t_damp}
+fix_modify md temp tdef"
+    ))?;
+    let curve = load_curve(lmp, ramp, "sxy", "gxy", max_strain, drop)?;
+    lmp.commands("unfix md\nunfix def\nuncompute tdef")?;
+    Ok(curve)
+}
+
 /// The maximum of a curve; an error if there is no positive stress at all.
 pub fn peak_of(curve: Curve, what: &str) -> Result<Strength> {
     let (i, p) = curve

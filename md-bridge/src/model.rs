@@ -6,7 +6,7 @@
 
 use crate::error::{MdError, Result};
 use crate::lammps::{BoxState, Lammps};
-use crate::loading::{load_curve, peak_of, Ramp, Strength};
+use crate::loading::{load_curve, peak_of, simple_shear, Ramp, Strength};
 use serde::{Deserialize, Serialize};
 
 /// Settings of the model-material measurements (reduced LJ units).
@@ -318,20 +318,7 @@ fix def all deform 1 x erate {rate} remap x",
         lmp.commands("unfix def\nunfix md")?;
         c
     } else {
-        lmp.commands(&format!(
-            "variable xy0 equal {xy0}
-variable gxy equal (xy-v_xy0)/ly
-variable sxy equal -pxy
-compute tdef all temp/deform
-fix def all deform 1 xy erate {rate} remap v flip no
-fix md all nvt/sllod temp {t} {t} 0.5
-fix_modify md temp tdef",
-            xy0 = b.tilt[0],
-            rate = cfg.strain_rate
-        ))?;
-        let c = load_curve(lmp, &ramp, "sxy", "gxy", max, 0.5)?;
-        lmp.commands("unfix md\nunfix def\nuncompute tdef")?;
-        c
+        simple_shear(lmp, b.tilt[0], cfg.strain_rate, t, 0.5, &ramp, max, 0.5)?
     };
     peak_of(
         curve,

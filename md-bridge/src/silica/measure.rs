@@ -4,7 +4,7 @@
 use super::{SilicaConfig, Strength, BAR_TO_PA, EV_PER_A2_TO_J_PER_M2};
 use crate::error::{MdError, Result};
 use crate::lammps::{lammps_seed, BoxState, Lammps};
-use crate::loading::{load_curve, peak_of, Ramp};
+use crate::loading::{load_curve, peak_of, simple_shear, Ramp};
 use std::path::Path;
 
 const MASS_SI: f64 = 28.0855;
@@ -377,27 +377,17 @@ fix def all deform 1 x erate {rate} remap x",
 pub fn shear(lmp: &Lammps, cfg: &SilicaConfig, r: &Reference) -> Result<Strength> {
     thermalise(lmp, cfg, r, cfg.strength_temperature, 2)?;
     let t = cfg.strength_temperature;
-    lmp.commands(&format!(
-        "variable xy0 equal {xy0}
-variable gxy equal (xy-v_xy0)/ly
-variable sxy equal -pxy
-compute tdef all temp/deform
-fix def all deform 1 xy erate {rate} remap v flip no
-fix md all nvt/sllod temp {t} {t} 0.1
-fix_modify md temp tdef",
-        rate = cfg.strain_rate,
-        xy0 = lmp.box_state()?.tilt[0],
-    ))?;
     // Glass flows after the peak rather than dropping: stop at 80 % of the peak.
-    let curve = load_curve(
+    let curve = simple_shear(
         lmp,
+        lmp.box_state()?.tilt[0],
+        cfg.strain_rate,
+        t,
+        0.1,
         &ramp(cfg, cfg.max_shear_strain),
-        "sxy",
-        "gxy",
         cfg.max_shear_strain,
         0.8,
     )?;
-    lmp.commands("unfix md\nunfix def\nuncompute tdef")?;
     peak_of(curve, "shear strength")
 }
 
