@@ -14,7 +14,7 @@ pub enum CalibrateError {
     #[error("invalid calibration config: {0}")]
     InvalidConfig(String),
     /// The engine refused an input (sample, material, test settings).
-    #[error("dem: {0}")]
+    #[error(transparent)]
     Dem(#[from] dem::DemError),
     /// The starting point itself cannot be evaluated, so there is no residual to reduce.
     #[error("the first guess cannot be evaluated: {0}")]

@@ -43,12 +43,10 @@ pub enum DemError {
     /// The run was interrupted (Ctrl-C) before this step; the state is that of the end of the previous step.
     #[error("interrupted at step {step}")]
     Interrupted { step: u64 },
-    /// Reading or writing a file failed.
-    #[error("i/o error on {path}: {source}")]
-    Io {
-        path: String,
-        source: std::io::Error,
-    },
+    /// Reading or writing a file failed. The cause is part of the message and not also the error's
+    /// source: reports would print it twice, and messages flattened to text keep it.
+    #[error("i/o error on {path}: {cause}")]
+    Io { path: String, cause: std::io::Error },
     /// A checkpoint or sample file that cannot be parsed.
     #[error("malformed file {path}: {reason}")]
     Format { path: String, reason: String },
@@ -58,10 +56,10 @@ pub enum DemError {
 pub type Result<T, E = DemError> = std::result::Result<T, E>;
 
 impl DemError {
-    pub(crate) fn io(path: &std::path::Path, source: std::io::Error) -> Self {
+    pub(crate) fn io(path: &std::path::Path, cause: std::io::Error) -> Self {
         DemError::Io {
             path: path.display().to_string(),
-            source,
+            cause,
         }
     }
 }

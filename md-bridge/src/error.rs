@@ -21,11 +21,12 @@ pub enum MdError {
     /// A LAMMPS query returned nothing (unknown compute/variable, atom map missing...).
     #[error("LAMMPS query `{query}` failed: {reason}")]
     Query { query: String, reason: String },
-    #[error("I/O error on {path}: {source}")]
+    /// Reading or writing a file failed. The cause is part of the message (which the worker's report
+    /// carries as text) and not also the error's source, which reports would print a second time.
+    #[error("I/O error on {path}: {cause}")]
     Io {
         path: PathBuf,
-        #[source]
-        source: std::io::Error,
+        cause: std::io::Error,
     },
     /// A config or job file that does not parse or holds values out of range.
     #[error("invalid input {what}: {message}")]
@@ -41,10 +42,10 @@ pub enum MdError {
 pub type Result<T, E = MdError> = std::result::Result<T, E>;
 
 impl MdError {
-    pub(crate) fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+    pub(crate) fn io(path: impl Into<PathBuf>, cause: std::io::Error) -> Self {
         Self::Io {
             path: path.into(),
-            source,
+            cause,
         }
     }
     pub(crate) fn config(what: impl Into<String>, message: impl ToString) -> Self {

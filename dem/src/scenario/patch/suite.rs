@@ -414,12 +414,7 @@ fn finished_cases(dir: &Path, suite: &PatchSuite) -> Result<Vec<PatchCase>> {
     let bytes = match std::fs::read(&path) {
         Ok(b) => b,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
-        Err(source) => {
-            return Err(DemError::Io {
-                path: path.display().to_string(),
-                source,
-            })
-        }
+        Err(cause) => return Err(DemError::io(&path, cause)),
     };
     let report: PatchReport = serde_json::from_slice(&bytes).map_err(|e| DemError::Format {
         path: path.display().to_string(),
