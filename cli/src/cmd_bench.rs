@@ -185,10 +185,16 @@ fn write_lammps_inputs(dir: &Path, cells: usize, steps: u64, dt: f64) -> Result<
     Ok(input)
 }
 
-/// Runs LAMMPS and returns (loop seconds of the timed run, atoms).
-fn time_lammps(input: &Path, steps: u64) -> Result<(f64, usize)> {
+/// The project venv, or the reason the comparison cannot run.
+fn lammps_venv() -> Result<md_bridge::venv::Venv> {
     let venv = md_bridge::venv::Venv::locate();
     venv.check().context("LAMMPS comparison needs the project venv (run `bash scripts/setup-venv`), or pass --no-lammps")?;
+    Ok(venv)
+}
+
+/// Runs LAMMPS and returns (loop seconds of the timed run, atoms).
+fn time_lammps(input: &Path, steps: u64) -> Result<(f64, usize)> {
+    let venv = lammps_venv()?;
     let exe = venv.lmp_exe()?;
     let log = input.with_file_name("log.lammps");
     let out = Command::new(&exe)
@@ -221,6 +227,10 @@ fn time_lammps(input: &Path, steps: u64) -> Result<(f64, usize)> {
 pub fn run(args: BenchArgs) -> Result<()> {
     if args.repeats == 0 {
         bail!("--repeats must be at least 1");
+    }
+    // Before minutes of DEM runs, not after them.
+    if !args.no_lammps {
+        lammps_venv()?;
     }
     println!("cgdem bench: periodic HCP packing, 12 contacts per sphere, cohesive force with tangential history");
     let dir = std::env::temp_dir().join(format!("cgdem-bench-{}", std::process::id()));
