@@ -170,6 +170,8 @@ pub fn draw(path: &Path, rows: &[ErrorRow], costs: &[(usize, f64)]) -> Result<()
     chart
         .configure_mesh()
         .x_labels(costs.len().max(2))
+        // Iterations are integers: no light lines between them.
+        .x_max_light_lines(0)
         .x_label_formatter(&|v| {
             if (v - v.round()).abs() < 1e-6 && *v >= 0.0 {
                 format!("{}", v.round())
