@@ -22,28 +22,69 @@ pub struct CurveSeries {
     pub points: Vec<(f64, f64)>,
 }
 
-/// The curves of the tensile and of the shear tests, read from the campaign's CSV files.
+/// The curves of the tensile and of the shear tests, read from the campaign's CSV files. A case whose
+/// curves repeat an earlier case's (scale-free cases: s = 0 above d_c, or any s below it) hides that
+/// case's lines under its own, so its label says so.
 pub fn curve_series(report: &PatchReport, dir: &Path) -> Result<[Vec<CurveSeries>; 2]> {
-    let mut out = [Vec::new(), Vec::new()];
+    let mut per_case: Vec<[Option<Vec<(f64, f64)>>; 2]> = Vec::new();
     for (k, case) in report.cases.iter().enumerate() {
         let tests = [
             ("tensile", &case.tensile, 2, 4),
             ("shear", &case.shear, 1, 6),
         ];
+        let mut curves = [None, None];
         for (slot, (name, result, strain_col, stress_col)) in tests.into_iter().enumerate() {
             let Some(r) = result else { continue };
             let path = dir.join(format!("case{k}_{name}.csv"));
-            let points = read_columns(&path, strain_col, stress_col)?
-                .into_iter()
-                .map(|(e, s)| (e, s / r.target_strength))
-                .collect();
-            out[slot].push(CurveSeries {
-                label: case_label(report, k),
-                points,
-            });
+            curves[slot] = Some(
+                read_columns(&path, strain_col, stress_col)?
+                    .into_iter()
+                    .map(|(e, s)| (e, s / r.target_strength))
+                    .collect(),
+            );
+        }
+        per_case.push(curves);
+    }
+    let mut out = [Vec::new(), Vec::new()];
+    for (k, curves) in per_case.iter().enumerate() {
+        let mut label = case_label(report, k);
+        if let Some(j) = (0..k).find(|&j| same_curves(&per_case[j], curves)) {
+            label += &format!(" {SAME} {j})");
+        }
+        for (slot, points) in curves.iter().enumerate() {
+            if let Some(points) = points {
+                out[slot].push(CurveSeries {
+                    label: label.clone(),
+                    points: points.clone(),
+                });
+            }
         }
     }
     Ok(out)
+}
+
+/// Label suffix "(= case j)" of a case whose curves are case j's, and the key's note on it.
+const SAME: &str = "(= case";
+const SAME_NOTE: &str = "(= case j): the same curves as case j, drawn over them";
+
+/// Whether two cases drew the same lines: the same tests, each curve with the same strains and
+/// stresses within 1e-9 of the largest stress (the reduced units of scale-free cases differ in the
+/// last bits).
+fn same_curves(a: &[Option<Vec<(f64, f64)>>; 2], b: &[Option<Vec<(f64, f64)>>; 2]) -> bool {
+    let close = |p: &[(f64, f64)], q: &[(f64, f64)]| {
+        let scale = p.iter().fold(0.0f64, |m, v| m.max(v.1.abs())).max(1e-300);
+        p.len() == q.len()
+            && p.iter().zip(q).all(|(u, v)| {
+                (u.0 - v.0).abs() <= 1e-9 * u.0.abs().max(1e-12)
+                    && (u.1 - v.1).abs() <= 1e-9 * scale
+            })
+    };
+    a.iter().any(Option::is_some)
+        && a.iter().zip(b).all(|(x, y)| match (x, y) {
+            (None, None) => true,
+            (Some(p), Some(q)) => close(p, q),
+            _ => false,
+        })
 }
 
 /// What `trends.png` is drawn against.
@@ -160,7 +201,8 @@ fn draw_curves(path: &Path, tensile: &[CurveSeries], shear: &[CurveSeries]) -> R
             labels.push(&c.label);
         }
     }
-    let (root, body) = keyed_figure(path, (1400, 560), &labels, 3, None)?;
+    let note = labels.iter().any(|l| l.contains(SAME)).then_some(SAME_NOTE);
+    let (root, body) = keyed_figure(path, (1400, 560), &labels, 3, note)?;
     let panels = body.split_evenly((1, 2));
     let as_series = |v: &[CurveSeries]| -> Vec<Series> {
         v.iter()
@@ -272,4 +314,41 @@ fn read_columns(path: &Path, a: usize, b: usize) -> Result<Vec<(f64, f64)>> {
             Ok((get(a)?, get(b)?))
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::same_curves;
+
+    fn curve(scale: f64) -> Option<Vec<(f64, f64)>> {
+        Some(
+            (0..50)
+                .map(|k| (1e-3 * k as f64, scale * (0.1 * k as f64).sin()))
+                .collect(),
+        )
+    }
+
+    #[test]
+    fn curves_are_the_same_to_round_off_only_and_test_by_test() {
+        assert!(same_curves(
+            &[curve(1.0), None],
+            &[curve(1.0 + 1e-13), None]
+        ));
+        assert!(same_curves(
+            &[curve(1.0), curve(2.0)],
+            &[curve(1.0), curve(2.0)]
+        ));
+        assert!(!same_curves(
+            &[curve(1.0), None],
+            &[curve(1.0 + 1e-6), None]
+        ));
+        assert!(!same_curves(&[curve(1.0), None], &[curve(1.0), curve(1.0)]));
+        assert!(
+            !same_curves(&[None, None], &[None, None]),
+            "no curves: nothing drawn to hide"
+        );
+        let mut short = curve(1.0);
+        short.as_mut().unwrap().pop();
+        assert!(!same_curves(&[curve(1.0), None], &[short, None]));
+    }
 }
