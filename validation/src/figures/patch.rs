@@ -26,7 +26,7 @@ pub struct CurveSeries {
 /// curves repeat an earlier case's (scale-free cases: s = 0 above d_c, or any s below it) hides that
 /// case's lines under its own, so its label says so.
 pub fn curve_series(report: &PatchReport, dir: &Path) -> Result<[Vec<CurveSeries>; 2]> {
-    let mut per_case: Vec<[Option<Vec<(f64, f64)>>; 2]> = Vec::new();
+    let mut per_case: Vec<CaseCurves> = Vec::new();
     for (k, case) in report.cases.iter().enumerate() {
         let tests = [
             ("tensile", &case.tensile, 2, 4),
@@ -63,6 +63,9 @@ pub fn curve_series(report: &PatchReport, dir: &Path) -> Result<[Vec<CurveSeries
     Ok(out)
 }
 
+/// A case's tensile and shear curves (None: test not run).
+type CaseCurves = [Option<Vec<(f64, f64)>>; 2];
+
 /// Label suffix "(= case j)" of a case whose curves are case j's, and the key's note on it.
 const SAME: &str = "(= case";
 const SAME_NOTE: &str = "(= case j): the same curves as case j, drawn over them";
@@ -70,7 +73,7 @@ const SAME_NOTE: &str = "(= case j): the same curves as case j, drawn over them"
 /// Whether two cases drew the same lines: the same tests, each curve with the same strains and
 /// stresses within 1e-9 of the largest stress (the reduced units of scale-free cases differ in the
 /// last bits).
-fn same_curves(a: &[Option<Vec<(f64, f64)>>; 2], b: &[Option<Vec<(f64, f64)>>; 2]) -> bool {
+fn same_curves(a: &CaseCurves, b: &CaseCurves) -> bool {
     let close = |p: &[(f64, f64)], q: &[(f64, f64)]| {
         let scale = p.iter().fold(0.0f64, |m, v| m.max(v.1.abs())).max(1e-300);
         p.len() == q.len()
