@@ -20,6 +20,7 @@ use clap::Args;
 use dem::sample::hcp::hcp_lattice;
 use dem::state::{sphere_inertia, sphere_mass};
 use dem::{Material, PairModel, Parallelism, RunConfig, Simulation};
+use md_bridge::venv::Venv;
 use rand::{Rng, SeedableRng};
 
 #[derive(Debug, Args)]
@@ -186,15 +187,14 @@ fn write_lammps_inputs(dir: &Path, cells: usize, steps: u64, dt: f64) -> Result<
 }
 
 /// The project venv, or the reason the comparison cannot run.
-fn lammps_venv() -> Result<md_bridge::venv::Venv> {
-    let venv = md_bridge::venv::Venv::locate();
+fn lammps_venv() -> Result<Venv> {
+    let venv = Venv::locate();
     venv.check().context("LAMMPS comparison needs the project venv (run `bash scripts/setup-venv`), or pass --no-lammps")?;
     Ok(venv)
 }
 
-/// Runs LAMMPS and returns (loop seconds of the timed run, atoms).
-fn time_lammps(input: &Path, steps: u64) -> Result<(f64, usize)> {
-    let venv = lammps_venv()?;
+/// Runs LAMMPS from `venv` and returns (loop seconds of the timed run, atoms).
+fn time_lammps(venv: &Venv, input: &Path, steps: u64) -> Result<(f64, usize)> {
     let exe = venv.lmp_exe()?;
     let log = input.with_file_name("log.lammps");
     let out = Command::new(&exe)
@@ -228,10 +228,12 @@ pub fn run(args: BenchArgs) -> Result<()> {
     if args.repeats == 0 {
         bail!("--repeats must be at least 1");
     }
-    // Before minutes of DEM runs, not after them.
-    if !args.no_lammps {
-        lammps_venv()?;
-    }
+    // Checked before minutes of DEM runs, not after them.
+    let venv = if args.no_lammps {
+        None
+    } else {
+        Some(lammps_venv()?)
+    };
     println!("cgdem bench: periodic HCP packing, 12 contacts per sphere, cohesive force with tangential history");
     let dir = std::env::temp_dir().join(format!("cgdem-bench-{}", std::process::id()));
     let mut rows = Vec::new();
@@ -243,7 +245,13 @@ pub fn run(args: BenchArgs) -> Result<()> {
         if args.repeats > 1 {
             println!("round {} of {}", k + 1, args.repeats);
         }
-        rounds.push(round(&args, &dir, &mut lammps_input, &mut rows)?);
+        rounds.push(round(
+            &args,
+            venv.as_ref(),
+            &dir,
+            &mut lammps_input,
+            &mut rows,
+        )?);
     }
     std::fs::remove_dir_all(&dir).ok();
     if args.repeats > 1 {
@@ -266,8 +274,10 @@ pub fn run(args: BenchArgs) -> Result<()> {
 }
 
 /// One round of the comparison: cgdem at each thread count, the machine ceiling, LAMMPS.
+/// LAMMPS runs when `venv` is given (not with `--no-lammps`).
 fn round(
     args: &BenchArgs,
+    venv: Option<&Venv>,
     dir: &Path,
     lammps_input: &mut Option<PathBuf>,
     rows: &mut Vec<(String, usize, f64, f64)>,
@@ -306,14 +316,14 @@ fn round(
         println!("cgdem   {copies} independent 1-thread copies side by side: {:.3e} particle-steps/s in all{ceiling}", rate);
         rows.push((format!("cgdem-{copies}x1t"), copies * n, secs, rate));
     }
-    if !args.no_lammps {
+    if let Some(venv) = venv {
         let input = match lammps_input {
             Some(p) => p.clone(),
             None => lammps_input
                 .insert(write_lammps_inputs(dir, args.cells, args.steps, dt_used)?)
                 .clone(),
         };
-        let (secs, n) = time_lammps(&input, args.steps)?;
+        let (secs, n) = time_lammps(venv, &input, args.steps)?;
         let rate = n as f64 * args.steps as f64 / secs;
         println!("LAMMPS  1 process : {n} spheres x {} steps in {secs:.3} s = {rate:.3e} particle-steps/s (gran/hooke/history, nve/sphere)", args.steps);
         if let Some(r1) = r.one_thread {

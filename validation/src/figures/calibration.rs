@@ -69,6 +69,13 @@ pub fn cost_series(history: &[Record]) -> Vec<(usize, f64)> {
     out
 }
 
+/// The index a tick at `v` stands for, when it sits on a non-negative integer (the bars and the
+/// iterations are at integers; plotters also asks for labels between them).
+fn integer_tick(v: f64) -> Option<usize> {
+    let k = v.round();
+    ((v - k).abs() < 1e-6 && k >= 0.0).then_some(k as usize)
+}
+
 /// Which error of a row a bar shows.
 type Pick = fn(&ErrorRow) -> Option<f64>;
 
@@ -106,14 +113,9 @@ pub fn draw(path: &Path, rows: &[ErrorRow], costs: &[(usize, f64)]) -> Result<()
         .build_cartesian_2d(-0.5..n - 0.5, floor..top)
         .map_err(|e| err(&e))?;
     let x_name = |v: &f64| {
-        let k = v.round();
-        if (v - k).abs() < 1e-6 && k >= 0.0 {
-            names
-                .get(k as usize)
-                .map_or(String::new(), |s| s.to_string())
-        } else {
-            String::new()
-        }
+        integer_tick(*v)
+            .and_then(|k| names.get(k))
+            .map_or(String::new(), |s| s.to_string())
     };
     chart
         .configure_mesh()
@@ -172,13 +174,7 @@ pub fn draw(path: &Path, rows: &[ErrorRow], costs: &[(usize, f64)]) -> Result<()
         .x_labels(costs.len().max(2))
         // Iterations are integers: no light lines between them.
         .x_max_light_lines(0)
-        .x_label_formatter(&|v| {
-            if (v - v.round()).abs() < 1e-6 && *v >= 0.0 {
-                format!("{}", v.round())
-            } else {
-                String::new()
-            }
-        })
+        .x_label_formatter(&|v| integer_tick(*v).map_or(String::new(), |k| k.to_string()))
         .y_labels(0)
         .disable_y_mesh()
         .x_desc("Levenberg-Marquardt iteration")

@@ -362,6 +362,8 @@ where
 
 #[cfg(test)]
 mod tests {
+    use super::*;
+
     #[test]
     fn log_ticks_are_one_two_five_and_terminate_where_plotters_looped() {
         // The d0 sweep 0.6..19.2 d_c with its margins, which hung plotters' log_scale().
@@ -375,8 +377,6 @@ mod tests {
         assert_eq!(log_ticks(0.31, 0.32), [0.31, 0.32]);
         assert!(log_ticks(1.0, 1.0).is_empty() && log_ticks(f64::NAN, 1.0).is_empty());
     }
-
-    use super::*;
 
     #[test]
     fn ranges_pad_and_survive_degenerate_data() {

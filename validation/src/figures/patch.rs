@@ -126,8 +126,7 @@ pub struct Trends {
 
 /// The trend series, or `None` when neither d0 nor nu takes two values.
 pub fn trends(report: &PatchReport) -> Option<Trends> {
-    let distinct = |v: Vec<f64>| {
-        let mut v = v;
+    let distinct = |mut v: Vec<f64>| {
         v.sort_by(f64::total_cmp);
         v.dedup();
         v.len()
