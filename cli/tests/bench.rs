@@ -24,8 +24,7 @@ fn figure(out: &str, prefix: &str, before: &str) -> f64 {
 #[test]
 fn bench_times_cgdem_the_machine_ceiling_and_lammps_on_one_packing() {
     common::venv_or_fail();
-    let csv = std::env::temp_dir().join(format!("cgdem-bench-test-{}.csv", std::process::id()));
-    let _ = std::fs::remove_file(&csv);
+    let csv = common::scratch("bench-test").join("rows.csv");
     let out = Command::new(env!("CARGO_BIN_EXE_cgdem"))
         .args([
             "bench",
@@ -63,6 +62,6 @@ fn bench_times_cgdem_the_machine_ceiling_and_lammps_on_one_packing() {
     figure(&text, "  LAMMPS 1 process, particle-steps/s:", " (");
     figure(&text, "  ratio cgdem/LAMMPS per core:", " (");
     let rows = std::fs::read_to_string(&csv).unwrap();
-    std::fs::remove_file(&csv).ok();
+    std::fs::remove_dir_all(csv.parent().unwrap()).ok();
     assert_eq!(rows.lines().count(), 9, "header + 2 x 4 rows:\n{rows}");
 }

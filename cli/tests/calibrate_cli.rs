@@ -2,6 +2,8 @@
 //! card as an uninterrupted one; unreachable targets are refused with a non-zero exit before any file
 //! is written. A tiny elastic-only case (HCP 8 d0, E and nu by k_N, k_T) keeps it to seconds.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
@@ -13,10 +15,7 @@ const TINY: &str = "targets = [\"young_modulus\", \"poisson_ratio\"]\nunknowns =
     [start]\nk_n = 1.4\nk_t = 0.5\ndelta_e = 1.0\ndelta_f = 1.0\nf_mt = 1.0\n";
 
 fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("cgdem-cal-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::scratch(&format!("cal-{name}"))
 }
 
 fn cgdem(config: &Path, out: &Path) -> Command {

@@ -38,10 +38,9 @@ fn doctor_reports_the_project_venv_healthy() {
 
 #[test]
 fn a_missing_venv_stops_every_lammps_command_with_the_fix() {
-    let nowhere = std::env::temp_dir().join(format!("cgdem-no-venv-{}", std::process::id()));
-    let nowhere = nowhere.to_str().unwrap();
-    let out_dir = std::env::temp_dir().join(format!("cgdem-no-venv-out-{}", std::process::id()));
-    let out_dir = out_dir.to_str().unwrap();
+    let d = common::scratch("no-venv");
+    let (nowhere, out_dir) = (d.join("venv"), d.join("out"));
+    let (nowhere, out_dir) = (nowhere.to_str().unwrap(), out_dir.to_str().unwrap());
     let commands: [&[&str]; 4] = [
         &["doctor"],
         &["md", "silica", "--out", out_dir],
@@ -66,4 +65,5 @@ fn a_missing_venv_stops_every_lammps_command_with_the_fix() {
         );
     }
     assert!(!std::path::Path::new(out_dir).join("card.toml").exists());
+    let _ = std::fs::remove_dir_all(&d);
 }

@@ -96,8 +96,7 @@ fn unrelaxed_surface_energy(a: f64) -> f64 {
 #[test]
 fn model_material_matches_lattice_sums_and_fails_in_tension_and_shear() {
     common::venv_or_fail();
-    let dir = std::env::temp_dir().join(format!("cgdem-md-model-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
+    let dir = common::scratch("md-model");
     let out = Command::new(env!("CARGO_BIN_EXE_cgdem"))
         .args(["md", "model", "--no-cache", "--cache"])
         .arg(dir.join("cache"))

@@ -73,12 +73,7 @@ fn the_same_holds_on_two_mpi_ranks() {
 
 fn interrupt_resume_and_compare(np: u32) {
     common::venv_or_fail();
-    let d = std::env::temp_dir().join(format!(
-        "cgdem-md-resume-test-{}-np{np}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
+    let d = common::scratch(&format!("md-resume-test-np{np}"));
     std::fs::write(d.join("tiny.toml"), TINY).unwrap();
 
     // 1. Interrupted: Ctrl-C once the elastic stage is saved (the tension stage is running).

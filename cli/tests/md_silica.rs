@@ -17,9 +17,7 @@ surface_anneal_ps = 0.5
 #[test]
 fn silica_card_from_worker_has_agreed_keys_plausible_values_and_is_cached() {
     common::venv_or_fail();
-    let d = std::env::temp_dir().join(format!("cgdem-md-silica-test-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
+    let d = common::scratch("md-silica-test");
     std::fs::write(d.join("tiny.toml"), TINY).unwrap();
     let (cfg, out_dir, cache) = (d.join("tiny.toml"), d.join("out"), d.join("cache"));
     let args = [

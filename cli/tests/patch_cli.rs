@@ -2,6 +2,8 @@
 //! threads gives the library's one-thread results to the last bit, with its figures; bad input exits
 //! with status 1 and names the problem (never a panic, whose status is 101).
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -13,10 +15,7 @@ const MATERIAL: &str = "[material]\nyoung_modulus = 1.0\npoisson_ratio = 0.15\n\
     density = 1.0\n";
 
 fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("cgdem-patch-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::scratch(&format!("patch-{name}"))
 }
 
 fn cgdem(args: &[&str], config: &Path, out: &Path) -> Output {

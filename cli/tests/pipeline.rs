@@ -3,12 +3,13 @@
 //! model) must meet every target within 1 % where the closed-form parameters miss by more than
 //! 5 %; the calibration figure is a PNG of the expected size.
 
+mod common;
+
 use std::process::Command;
 
 #[test]
 fn the_main_job_calibrates_and_verifies_its_card() {
-    let out = std::env::temp_dir().join(format!("cgdem-pipeline-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&out);
+    let out = common::scratch("pipeline");
     let run = Command::new(env!("CARGO_BIN_EXE_cgdem"))
         .args(["pipeline", "--out"])
         .arg(&out)

@@ -1,6 +1,19 @@
-//! Shared by the CLI tests that run real LAMMPS.
+//! Shared by the CLI tests (each test binary uses a subset, hence the `dead_code` allowances).
+
+use std::path::PathBuf;
+
+/// A fresh, empty directory for one test, `<tmp>/cgdem-<name>-<pid>` (emptied first if a killed run
+/// left it behind).
+#[allow(dead_code)]
+pub fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("cgdem-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
 
 /// Fails (never skips) when the project venv is missing or broken, naming the command that fixes it.
+#[allow(dead_code)]
 pub fn venv_or_fail() {
     if let Err(e) = md_bridge::Venv::locate().check() {
         panic!(
