@@ -100,10 +100,11 @@ fn total_energy_has_no_secular_drift_over_1e5_steps() {
         last / window as f64,
         kin / window as f64,
     );
+    // Printed before the checks, so that a failing variant still shows its figures.
+    let drift = (last - first).abs();
+    eprintln!("energy: first-window mean {first:.8e}, last-window mean {last:.8e}, drift {:.2e} of total, {:.2e} of kinetic, released by sliding {:.2e}", drift / first.abs(), drift / kin, s.energy().sliding);
     assert_eq!(s.energy().sliding, 0.0, "stayed elastic");
     // The criterion: window means within 1e-4 of the total energy (which holds the bond energy).
-    let drift = (last - first).abs();
-    eprintln!("energy: first-window mean {first:.8e}, last-window mean {last:.8e}, drift {:.2e} of total, {:.2e} of kinetic", drift / first.abs(), drift / kin);
     assert!(
         drift < 1e-4 * first.abs(),
         "energy drift {drift:.3e} on a total of {first:.6e}"
