@@ -7,7 +7,7 @@ use std::path::Path;
 
 use dem::material::PairModel;
 use dem::sample::RelaxConfig;
-use dem::scenario::patch::suite::SampleSpec;
+use dem::sample::SampleSpec;
 use serde::{Deserialize, Serialize};
 
 use crate::config::SiMaterial;

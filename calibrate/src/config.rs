@@ -5,7 +5,7 @@
 
 use dem::material::{ForceLaw, Material, PairModel, ParamScale};
 use dem::sample::RelaxConfig;
-use dem::scenario::patch::suite::SampleSpec;
+use dem::sample::SampleSpec;
 use dem::UnitSystem;
 use std::path::{Path, PathBuf};
 

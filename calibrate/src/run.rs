@@ -6,7 +6,8 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use dem::sample::Sample;
-use dem::scenario::patch::suite::{make_sample, PatchKind, SampleSpec};
+use dem::sample::{make_sample, SampleSpec};
+use dem::scenario::patch::suite::PatchKind;
 use dem::scenario::patch::PatchSuite;
 use dem::Parallelism;
 

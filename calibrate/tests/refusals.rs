@@ -82,7 +82,7 @@ fn si_material_is_converted_once_with_the_nano_unit_system() {
     let dc = m.critical_diameter();
     assert!((dc - 1.711).abs() < 1e-3, "d_c = {dc} nm");
     match p.sample {
-        dem::scenario::patch::suite::SampleSpec::Amorphous { d0_over_dc, .. } => {
+        dem::sample::SampleSpec::Amorphous { d0_over_dc, .. } => {
             assert!((d0_over_dc * dc - 3.0).abs() < 1e-12)
         }
         _ => panic!("amorphous expected"),

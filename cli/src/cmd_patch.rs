@@ -13,7 +13,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use dem::material::{Material, PairModel, ParamScale};
 use dem::sample::RelaxConfig;
-use dem::scenario::patch::suite::{make_sample_resumable, SampleSpec};
+use dem::sample::{make_sample_resumable, SampleSpec};
 use dem::scenario::patch::{run_suite, PatchSuite, ProgressFile};
 use serde::Deserialize;
 

@@ -10,7 +10,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use calibrate::{CalibrationConfig, SiMaterial};
 use clap::Args;
-use dem::scenario::patch::suite::SampleSpec;
+use dem::sample::SampleSpec;
 
 /// Arguments of `cgdem pipeline`.
 #[derive(Debug, Args)]

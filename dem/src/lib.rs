@@ -21,6 +21,7 @@ pub mod history;
 pub mod integrate;
 pub mod interrupt;
 pub mod io;
+pub mod jobs;
 pub mod material;
 pub mod neighbor;
 pub mod sample;

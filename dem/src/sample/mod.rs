@@ -5,6 +5,7 @@
 //! - [`relax`]: the two-phase relaxation of section 3.2 that turns an insertion into an amorphous solid;
 //! - [`carve`]: keep or remove particles by shape and assign groups (walls, junctions);
 //! - [`stats`]: volume fraction and coordination number;
+//! - [`spec`]: sample recipes ([`SampleSpec`]) as scenarios and calibrations ask for them;
 //! - [`Sample`]: a particle set with its box, saved and loaded as JSON so a relaxed sample is made once.
 
 pub mod carve;
@@ -12,6 +13,7 @@ pub mod hcp;
 pub mod insert;
 pub mod relax;
 pub mod sizes;
+pub mod spec;
 pub mod stats;
 
 use std::path::Path;
@@ -27,6 +29,7 @@ pub use carve::Shape;
 pub use insert::{random_insertion, InsertionConfig};
 pub use relax::{amorphous, relax, RelaxConfig, RelaxReport};
 pub use sizes::SizeDistribution;
+pub use spec::{make_sample, make_sample_resumable, SampleSpec};
 
 /// Sample file format version, bumped when the layout changes.
 const SAMPLE_VERSION: u32 = 1;
