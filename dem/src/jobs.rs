@@ -237,23 +237,25 @@ pub type Collected<R> = Vec<Option<R>>;
 /// through `run(inputs, job_dir)`, storing each result as it finishes; then, when the shards run
 /// concurrently, waits for the other shards' results. Returns the results in list order. A job that
 /// fails stops the list with its error once the jobs already started have finished (their results are
-/// kept), so nothing computed is lost.
-pub fn run_jobs<I, R, F>(
+/// kept), so nothing computed is lost. The jobs' error type is the caller's (any that an engine error
+/// converts into).
+pub fn run_jobs<I, R, E, F>(
     cache: &JobCache,
     jobs: &[I],
     how: &RunJobs,
     run: F,
-) -> Result<Collected<R>>
+) -> std::result::Result<Collected<R>, E>
 where
     I: Serialize + Sync,
     R: Serialize + DeserializeOwned + Send,
-    F: Fn(&I, &Path) -> Result<R> + Sync,
+    E: From<DemError> + Send,
+    F: Fn(&I, &Path) -> std::result::Result<R, E> + Sync,
 {
     let keys: Vec<JobKey> = jobs.iter().map(JobCache::key).collect::<Result<_>>()?;
     let mine: Vec<usize> = (0..jobs.len())
         .filter(|&j| how.shard.owns(j) && !cache.is_done(&keys[j]))
         .collect();
-    let one = |j: usize| -> Result<()> {
+    let one = |j: usize| -> std::result::Result<(), E> {
         let dir = cache.dir(&keys[j])?;
         let t = Instant::now();
         let result = run(&jobs[j], &dir)?;
@@ -269,9 +271,11 @@ where
             .build()
             .map_err(|e| DemError::InvalidConfig(format!("cannot start job threads: {e}")))?;
         // Every job runs to its end or error; the first error in list order is reported.
-        let outcomes: Vec<Result<()>> =
+        let outcomes: Vec<std::result::Result<(), E>> =
             pool.install(|| mine.par_iter().with_max_len(1).map(|&j| one(j)).collect());
-        outcomes.into_iter().collect::<Result<()>>()?;
+        outcomes
+            .into_iter()
+            .collect::<std::result::Result<(), E>>()?;
     }
     let mut waited = false;
     loop {
@@ -281,7 +285,7 @@ where
             return Ok(results);
         }
         if crate::interrupt::requested() {
-            return Err(DemError::Interrupted { step: 0 });
+            return Err(DemError::Interrupted { step: 0 }.into());
         }
         if !waited {
             tracing::info!(

@@ -18,11 +18,11 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::rig::Rig;
 use super::{Curve, CurvePoint, WallConfig};
 use crate::error::{not_positive, DemError, Result};
 use crate::material::PairModel;
 use crate::sample::Sample;
+use crate::scenario::rig::Rig;
 use crate::sim::{Parallelism, RunConfig, TimeStep};
 use crate::walls::{AxisControl, RigidMotion};
 use crate::Vec3;
@@ -121,7 +121,7 @@ pub fn elastic(
         global_damping: cfg.damping,
         ..RunConfig::default()
     };
-    let mut rig = Rig::new(sample, model, &cfg.walls, run, par)?;
+    let mut rig = Rig::new(sample, model, cfg.walls.rig_spec(sample, model), run, par)?;
     let e = model.material.young_modulus;
     // Unloaded reference: the residual stress of the sample (zero for a lattice, ~1e-14 E when relaxed).
     let s0 = rig.step_with_stress()?;

@@ -17,13 +17,13 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::rig::Rig;
 use super::{target_strength, Curve, CurvePoint, WallConfig};
 use crate::error::{not_positive, DemError, Result};
 use crate::io::checkpoint::Checkpoint;
 use crate::io::progress::{self, ProgressFile, SaveClock};
 use crate::material::PairModel;
 use crate::sample::Sample;
+use crate::scenario::rig::Rig;
 use crate::sim::{Parallelism, RunConfig, Simulation, TimeStep};
 use crate::walls::RigidMotion;
 use crate::Vec3;
@@ -228,7 +228,7 @@ pub fn strength_resumable(
         track_energy: tensile,
         ..RunConfig::default()
     };
-    let mut rig = Rig::new(sample, model, &cfg.walls, run, par)?;
+    let mut rig = Rig::new(sample, model, cfg.walls.rig_spec(sample, model), run, par)?;
     let key = progress::key(&(cfg, model), sample)?;
     let saved = progress.and_then(|f| progress::load::<Progress>(&f.path, &key));
     let mut st = match saved {
