@@ -3,9 +3,12 @@
 mod cmd_bench;
 mod cmd_calibrate;
 mod cmd_doctor;
+mod cmd_dstar;
+mod cmd_junction;
 mod cmd_md;
 mod cmd_patch;
 mod cmd_pipeline;
+mod progress;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -45,6 +48,10 @@ enum Command {
     Calibrate(cmd_calibrate::CalibrateArgs),
     /// Material -> sample -> patch tests -> calibration -> card -> verification: `cgdem pipeline --out DIR`.
     Pipeline(cmd_pipeline::PipelineArgs),
+    /// Junction shear (paper 000 section 4): `cgdem junction configs/junction-silica-6nm-D20.toml --out DIR`.
+    Junction(cmd_junction::JunctionArgs),
+    /// Automatic d* search by bisection on the junction size: `cgdem dstar configs/dstar-silica-6nm.toml --out DIR`.
+    Dstar(cmd_dstar::DstarArgs),
 }
 
 fn main() -> Result<()> {
@@ -71,6 +78,8 @@ fn main() -> Result<()> {
         Command::Sample(a) => cmd_patch::run_sample(a, cli.threads),
         Command::Calibrate(a) => cmd_calibrate::run(a, cli.threads),
         Command::Pipeline(a) => cmd_pipeline::run(a, cli.threads),
+        Command::Junction(a) => cmd_junction::run(a, cli.threads),
+        Command::Dstar(a) => cmd_dstar::run(a, cli.threads),
     }
 }
 

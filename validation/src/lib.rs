@@ -6,5 +6,6 @@
 
 pub mod error;
 pub mod figures;
+pub mod wear;
 
 pub use error::{Result, ValidationError};

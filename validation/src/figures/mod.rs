@@ -3,6 +3,8 @@
 
 pub mod calibration;
 mod chart;
+pub mod dstar;
+pub mod junction;
 pub mod md;
 pub mod patch;
 mod style;
