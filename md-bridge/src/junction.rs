@@ -223,9 +223,7 @@ thermo 0",
     };
     let detached =
         detachment(&all(&x0), &all(&x), &bonding, &members, &anchors).map_err(wear_err)?;
-    let verdict = classify(&frames, &force, &cfg.classify)
-        .map_err(wear_err)?
-        .with_detachment(detached);
+    let verdict = classify(&frames, &force, Some(detached), &cfg.classify).map_err(wear_err)?;
     Ok(JunctionResult {
         n_atoms: n as u64,
         junction_atoms: members.len(),

@@ -63,8 +63,9 @@ pub struct SearchConfig {
     /// Stop when (upper - lower) / centre is at most this; default 0.15.
     #[serde(default = "d_width")]
     pub relative_width: f64,
-    /// Smallest and largest D allowed; default from the geometry (min_diameter_over_d0 d0, and the
-    /// largest D whose solids keep half a d0 between walls and junction, below the box width).
+    /// Smallest and largest D allowed; default from the geometry (a junction at least d0 tall, and the
+    /// largest D whose solids keep half a d0 between walls and junction, below the box width; four
+    /// times the range's top when the box grows with D).
     #[serde(default)]
     pub limits: Option<[f64; 2]>,
     /// Most rounds of probes; default 8.
@@ -119,13 +120,36 @@ impl DstarFile {
             });
         }
         let limits = self.search.limits.unwrap_or_else(|| {
+            // Smallest D: a junction at least a particle tall (H >= d0), so that every run of the
+            // search holds members whatever its seed (a single run may go down to 1.5 d0).
+            let smallest = (j.min_diameter_over_d0 * j.d0).max(j.d0 / j.height_over_diameter);
+            if self.search.box_over_diameter.is_some() {
+                // The box grows with D: no geometric ceiling, four times the starting range's top.
+                return [smallest, 4.0 * self.search.range[1]];
+            }
             // Largest D: narrower than both periodic lengths, and solids (L_y - D h) / 2 thick enough
             // for the walls plus half a d0.
             let by_walls =
                 (j.lengths[1] - 2.0 * (j.wall_thickness() + 0.5 * j.d0)) / j.height_over_diameter;
             let by_width = 0.95 * j.lengths[0].min(j.lengths[2]);
-            [j.min_diameter_over_d0 * j.d0, by_walls.min(by_width)]
+            [smallest, by_walls.min(by_width)]
         });
+        if let Some(f) = self.search.box_over_diameter {
+            if !f.iter().all(|v| v.is_finite() && *v > 0.0) {
+                return Err(ValidationError::Config {
+                    path: "[search]".into(),
+                    reason: format!("box_over_diameter {f:?} must hold three positive factors"),
+                });
+            }
+        }
+        if let Some(k) = self.search.slide_over_diameter {
+            if !(k.is_finite() && k > 0.0) {
+                return Err(ValidationError::Config {
+                    path: "[search]".into(),
+                    reason: format!("slide_over_diameter {k} must be positive"),
+                });
+            }
+        }
         let s = SearchSettings {
             range: self.search.range,
             limits,

@@ -3,19 +3,26 @@
 //! junction members in the same order; [`unwrap_frame`] makes them so), bonds and force histories;
 //! nothing here knows LAMMPS or the DEM engine.
 //!
-//! The decision (paper 000 section 4; Aghababaei et al. 2016): a wear particle *rolls*, i.e. the
-//! junction material turns as a body. Between successive frames we fit a rigid in-plane motion to
-//! the junction members ([`rotation::plane_fit`]); summing gives the total turn and the non-rigid
-//! residual. Plastic flow also turns material (vorticity), but with a residual as large as the
-//! turn (`rigidity` near 1 for simple shear); a rolling particle turns with a small residual.
-//! So: wear particle iff there are at least `min_members` members, `|turn| >= min_turn` and
-//! `rigidity <= max_rigidity`.
+//! The decision (paper 000 section 4; Aghababaei et al. 2016): a wear particle has *detached* and
+//! *rolls*, i.e. the junction material turns as a body. Between successive frames we fit a rigid
+//! in-plane motion to the junction members ([`rotation::plane_fit`]); summing gives the total turn and
+//! the non-rigid residual. Homogeneous shear turns a material's shape by at most pi/2 (the polar
+//! rotation atan(gamma / 2)), whatever its amount, and with a residual as large as the turn
+//! (`rigidity` near 1). A junction with at least `min_members` members is a wear particle when either
+//! - it rolls as a rigid body: `|turn| >= min_turn` and `rigidity <= max_rigidity` (the rule the MD
+//!   model junctions were classified with), or
+//! - it came off as one body and turned beyond what shear can turn: the cluster analysis of
+//!   [`detachment`] puts at least `min_debris_fraction` of the members in one body that lost every
+//!   original bond chain to the walls, and `|turn| > pi/2`.
 //!
-//! Corroborating evidence, reported beside the decision and not part of it:
-//! - the tangential force history (peak, and the late mean over the peak: it drops once the junction
-//!   has come off);
-//! - the cluster analysis of [`detachment`]: which members lost every bond chain to the walls, and how
-//!   many of them form one body (the debris).
+//! Why the second rule (measured, docs/junction.md): coarse DEM debris (d0 = 6 nm, tens of particles)
+//! deforms while it rolls under the normal load, so its frame-to-frame fit leaves a residual above the
+//! rigid rule's 0.5 although the junction has visibly come off and flipped over (D = 32 nm, seed 2:
+//! debris 0.90 of the members, turn 1.9 rad, rigidity 1.5). The MD junctions' verdicts are the same
+//! under both rules (D = 12 sigma: turn 0.54, debris 0.08; D = 50 sigma: turn 2.6, rigidity 0.18).
+//!
+//! Also reported, not part of the decision: the tangential force history (peak, and the late mean over
+//! the peak: it drops once the junction has come off).
 
 pub mod cluster;
 pub mod rotation;
@@ -56,6 +63,9 @@ pub struct ClassifyParams {
     /// Fewest members that can make a wear particle; default 4: a particle or two coming loose is
     /// debris of no size, and their rigid fit is degenerate (one point has no rotation).
     pub min_members: usize,
+    /// Fraction of the members in one detached body for the second rule; default 0.5: most of the
+    /// junction came off together.
+    pub min_debris_fraction: f64,
 }
 
 impl Default for ClassifyParams {
@@ -65,6 +75,7 @@ impl Default for ClassifyParams {
             max_rigidity: 0.5,
             axes: (0, 1),
             min_members: 4,
+            min_debris_fraction: 0.5,
         }
     }
 }
@@ -77,13 +88,14 @@ impl ClassifyParams {
             && self.max_rigidity > 0.0
             && self.axes.0 < 3
             && self.axes.1 < 3
-            && self.axes.0 != self.axes.1;
+            && self.axes.0 != self.axes.1
+            && (0.0..=1.0).contains(&self.min_debris_fraction);
         if ok {
             Ok(())
         } else {
             Err(WearError::Setting(format!(
                 "classifier thresholds {self:?}: min_turn and max_rigidity must be positive, the two \
-                 axes distinct and below 3"
+                 axes distinct and below 3, min_debris_fraction in [0, 1]"
             )))
         }
     }
@@ -93,6 +105,8 @@ impl ClassifyParams {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Verdict {
     pub outcome: Outcome,
+    /// Which rule decided, in words.
+    pub reason: String,
     /// Signed total turn of the junction (rad), sum of frame-to-frame rigid rotations.
     pub turn: f64,
     /// Sum of non-rigid RMS residuals / sum of rotational RMS displacements (|dtheta| x radius).
@@ -105,14 +119,6 @@ pub struct Verdict {
     /// Cluster analysis of the first and last frames (None when the caller had no bonds to give).
     #[serde(default)]
     pub detachment: Option<Detachment>,
-}
-
-impl Verdict {
-    /// Adds the cluster analysis to the evidence.
-    pub fn with_detachment(mut self, d: Detachment) -> Self {
-        self.detachment = Some(d);
-        self
-    }
 }
 
 /// Checks that `frames` describe one set of members over time: at least two frames, all of the same
@@ -143,11 +149,12 @@ fn check_frames(frames: &[Vec<[f64; 3]>]) -> Result<()> {
     Ok(())
 }
 
-/// Classifies from junction member positions per frame and (optionally, empty otherwise) the
-/// tangential force sampled at the same frames.
+/// Classifies from junction member positions per frame, (optionally, empty otherwise) the tangential
+/// force sampled at the same frames, and (optionally) the cluster analysis of [`detachment`].
 pub fn classify(
     frames: &[Vec<[f64; 3]>],
     tangential_force: &[f64],
+    detachment: Option<Detachment>,
     p: &ClassifyParams,
 ) -> Result<Verdict> {
     p.validate()?;
@@ -180,23 +187,60 @@ pub fn classify(
     } else {
         f64::INFINITY
     };
-    let outcome = if frames[0].len() >= p.min_members
-        && turn.abs() >= p.min_turn
-        && rigidity <= p.max_rigidity
+    let members = frames[0].len();
+    let debris = detachment.as_ref().map(|d| d.debris_fraction);
+    let (outcome, reason) = if members < p.min_members {
+        (
+            Outcome::PlasticSmoothing,
+            format!(
+                "{members} member(s): fewer than the {} a wear particle needs",
+                p.min_members
+            ),
+        )
+    } else if turn.abs() >= p.min_turn && rigidity <= p.max_rigidity {
+        (
+            Outcome::WearParticle,
+            format!(
+                "rolls as a rigid body: turned {:.2} rad (>= {}) with rigidity {rigidity:.2} (<= {})",
+                turn.abs(),
+                p.min_turn,
+                p.max_rigidity
+            ),
+        )
+    } else if debris.is_some_and(|f| f >= p.min_debris_fraction)
+        && turn.abs() > std::f64::consts::FRAC_PI_2
     {
-        Outcome::WearParticle
+        (
+            Outcome::WearParticle,
+            format!(
+                "came off as one body ({:.0} % of the members, >= {:.0} %) and turned {:.2} rad, beyond \
+                 the pi/2 that shear can turn material",
+                100.0 * debris.unwrap_or(0.0),
+                100.0 * p.min_debris_fraction,
+                turn.abs()
+            ),
+        )
     } else {
-        Outcome::PlasticSmoothing
+        (
+            Outcome::PlasticSmoothing,
+            format!(
+                "turned {:.2} rad with rigidity {rigidity:.2}{}: neither a rigid roll nor a detached body \
+                 turned beyond pi/2",
+                turn.abs(),
+                debris.map_or(String::new(), |f| format!(", {:.0} % of the members in a loose body", 100.0 * f))
+            ),
+        )
     };
     let (force_peak, force_late_over_peak) = force_features(tangential_force);
     Ok(Verdict {
         outcome,
+        reason,
         turn,
         rigidity,
         turn_history,
         force_peak,
         force_late_over_peak,
-        detachment: None,
+        detachment,
     })
 }
 

@@ -93,13 +93,17 @@ fn rigid_ball_rolling_between_two_walls_is_a_detached_wear_particle() {
     let force: Vec<f64> = (0..60)
         .map(|k| if k < 10 { k as f64 } else { 2.0 })
         .collect();
+    let members: Vec<usize> = (0..n).collect();
+    let d = detachment(&frames[0], &frames[59], &atoms(0.75), &members, &anchors).unwrap();
     let v = classify(
         &members_only(&frames, n),
         &force,
+        Some(d.clone()),
         &ClassifyParams::default(),
     )
     .unwrap();
     assert_eq!(v.outcome, Outcome::WearParticle, "{v:?}");
+    assert!(v.reason.contains("rigid body"), "{}", v.reason);
     assert!(
         (v.turn + TURNS * std::f64::consts::TAU).abs() < 1e-3,
         "turn {}",
@@ -109,14 +113,57 @@ fn rigid_ball_rolling_between_two_walls_is_a_detached_wear_particle() {
     assert!(v.force_late_over_peak.unwrap() < 0.3);
     // The ball touches both walls in the first frame (bonded at its contacts) and again in the last
     // (at other points): only its inner bonds survive, so all of it is one loose body.
-    let members: Vec<usize> = (0..n).collect();
-    let d = detachment(&frames[0], &frames[59], &atoms(0.75), &members, &anchors).unwrap();
     assert!(d.initial_bonds > d.surviving_bonds, "{d:?}");
     assert_eq!(d.detached_fraction, 1.0, "{d:?}");
     assert_eq!(d.debris_fraction, 1.0, "{d:?}");
     assert_eq!(d.debris_size, n);
-    let v = v.with_detachment(d);
-    assert!(v.detachment.is_some());
+    assert_eq!(v.detachment, Some(d));
+}
+
+/// The rolling ball of [`rolling_between_walls`], squashed and stretched along its own axes by 30 %
+/// every other frame: it rolls, but not rigidly.
+fn deforming(frames: &[Vec<[f64; 3]>], n: usize, turns_kept: usize) -> Vec<Vec<[f64; 3]>> {
+    frames[..turns_kept]
+        .iter()
+        .enumerate()
+        .map(|(k, f)| {
+            let (cx, cy) = f[..n].iter().fold((0.0, 0.0), |a, p| {
+                (a.0 + p[0] / n as f64, a.1 + p[1] / n as f64)
+            });
+            let s = if k % 2 == 0 { 1.3 } else { 1.0 };
+            f[..n]
+                .iter()
+                .map(|p| [cx + (p[0] - cx) * s, cy + (p[1] - cy) / s, 0.0])
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn a_detached_body_that_deforms_as_it_rolls_is_a_wear_particle_by_the_cluster_rule() {
+    let (frames, n, anchors) = rolling_between_walls(60);
+    let members: Vec<usize> = (0..n).collect();
+    let d = detachment(&frames[0], &frames[59], &atoms(0.75), &members, &anchors).unwrap();
+    let soft = deforming(&frames, n, 60);
+    let p = ClassifyParams::default();
+    // Without the cluster analysis the rigid rule alone says no: the residual is as large as the turn.
+    let v = classify(&soft, &[], None, &p).unwrap();
+    assert!(v.rigidity > p.max_rigidity, "rigidity {}", v.rigidity);
+    assert_eq!(v.outcome, Outcome::PlasticSmoothing, "{}", v.reason);
+    // With it: one loose body that turned beyond pi/2.
+    let v = classify(&soft, &[], Some(d.clone()), &p).unwrap();
+    assert_eq!(v.outcome, Outcome::WearParticle, "{}", v.reason);
+    assert!(v.reason.contains("one body"), "{}", v.reason);
+    // A loose body that turned less than shear can turn material is not a wear particle: 7 frames of
+    // the 59 are a turn of about 1.1 rad.
+    let short = deforming(&frames, n, 8);
+    let v = classify(&short, &[], Some(d), &p).unwrap();
+    assert!(
+        v.turn.abs() < std::f64::consts::FRAC_PI_2,
+        "turn {}",
+        v.turn
+    );
+    assert_eq!(v.outcome, Outcome::PlasticSmoothing, "{}", v.reason);
 }
 
 #[test]
@@ -140,7 +187,13 @@ fn junction_smeared_by_simple_shear_is_plastic_and_leaves_no_debris() {
             f
         })
         .collect();
-    let v = classify(&members_only(&frames, nj), &[], &ClassifyParams::default()).unwrap();
+    let v = classify(
+        &members_only(&frames, nj),
+        &[],
+        None,
+        &ClassifyParams::default(),
+    )
+    .unwrap();
     // The material's shape turns towards the flow direction and stops: bounded by a quarter turn.
     assert!(
         v.turn.abs() > 0.5 && v.turn.abs() < std::f64::consts::FRAC_PI_2,
@@ -178,6 +231,7 @@ fn intact_junction_is_plastic_and_stays_attached() {
     let v = classify(
         &members_only(&frames, nj),
         &[1.0; 10],
+        None,
         &ClassifyParams::default(),
     )
     .unwrap();
@@ -197,7 +251,7 @@ fn intact_junction_is_plastic_and_stays_attached() {
 fn a_single_loose_particle_is_never_debris() {
     // One member that rolls by itself: no body to speak of, whatever its rotation.
     let one: Vec<Vec<[f64; 3]>> = (0..60).map(|k| vec![[k as f64, 0.0, 0.0]]).collect();
-    let v = classify(&one, &[], &ClassifyParams::default()).unwrap();
+    let v = classify(&one, &[], None, &ClassifyParams::default()).unwrap();
     assert_eq!(v.outcome, Outcome::PlasticSmoothing);
     // An intact junction from which one particle came loose and rolled off: the group does not turn,
     // and the debris is that one particle.
@@ -210,7 +264,7 @@ fn a_single_loose_particle_is_never_debris() {
             f
         })
         .collect();
-    let v = classify(&frames, &[], &ClassifyParams::default()).unwrap();
+    let v = classify(&frames, &[], None, &ClassifyParams::default()).unwrap();
     assert_eq!(v.outcome, Outcome::PlasticSmoothing, "{v:?}");
     let members: Vec<usize> = (0..nj).collect();
     let d = detachment(&frames[0], &frames[29], &atoms(0.6), &members, &[0]).unwrap();
@@ -225,20 +279,20 @@ fn a_single_loose_particle_is_never_debris() {
 fn frames_of_unequal_length_are_an_error_not_a_truncation() {
     let mut frames: Vec<Vec<[f64; 3]>> = (0..5).map(|_| disc(2.0, 0.5)).collect();
     frames[3].pop();
-    let e = classify(&frames, &[], &ClassifyParams::default()).unwrap_err();
+    let e = classify(&frames, &[], None, &ClassifyParams::default()).unwrap_err();
     assert!(e.to_string().contains("frame 3"), "{e}");
-    assert!(classify(&frames[..1], &[], &ClassifyParams::default()).is_err());
+    assert!(classify(&frames[..1], &[], None, &ClassifyParams::default()).is_err());
     let good: Vec<Vec<[f64; 3]>> = (0..5).map(|_| disc(2.0, 0.5)).collect();
-    assert!(classify(&good, &[1.0; 4], &ClassifyParams::default()).is_err());
-    assert!(classify(&good, &[f64::NAN; 5], &ClassifyParams::default()).is_err());
+    assert!(classify(&good, &[1.0; 4], None, &ClassifyParams::default()).is_err());
+    assert!(classify(&good, &[f64::NAN; 5], None, &ClassifyParams::default()).is_err());
     let mut nan = good.clone();
     nan[2][0][1] = f64::NAN;
-    assert!(classify(&nan, &[], &ClassifyParams::default()).is_err());
+    assert!(classify(&nan, &[], None, &ClassifyParams::default()).is_err());
     let bad = ClassifyParams {
         axes: (1, 1),
         ..ClassifyParams::default()
     };
-    assert!(classify(&good, &[], &bad).is_err());
+    assert!(classify(&good, &[], None, &bad).is_err());
     let (a, b) = (&good[0], &good[1][..3]);
     assert!(detachment(a, b, &atoms(0.6), &[0], &[1]).is_err());
     assert!(detachment(a, a, &atoms(0.6), &[a.len()], &[1]).is_err());

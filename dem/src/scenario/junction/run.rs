@@ -224,9 +224,13 @@ pub fn run_resumable(
     };
     let detached =
         detachment(&first.pos, &last.pos, &bonding, &geo.members, &walls).map_err(wear_err)?;
-    let verdict = classify(&st.frames.frames, &tangential, &cfg.classify)
-        .map_err(wear_err)?
-        .with_detachment(detached);
+    let verdict = classify(
+        &st.frames.frames,
+        &tangential,
+        Some(detached),
+        &cfg.classify,
+    )
+    .map_err(wear_err)?;
     let slide = st.force.samples.last().map_or(0.0, |s| s.displacement[0]);
     Ok(JunctionResult {
         outcome: verdict.outcome,
