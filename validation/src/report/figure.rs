@@ -54,7 +54,7 @@ impl Series {
 }
 
 /// One panel: its title, axis labels with units, and series.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct Panel {
     pub title: String,
     /// Axis label with its unit, e.g. "delta_N / delta_e (-)".

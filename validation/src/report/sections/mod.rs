@@ -2,6 +2,7 @@
 //! adding one is writing that module and one line in [`all`].
 
 pub mod force_laws;
+pub mod patch;
 pub mod two_particle;
 pub mod wear;
 
@@ -12,6 +13,8 @@ pub fn all() -> Vec<Section> {
     vec![
         force_laws::SECTION,
         two_particle::SECTION,
+        patch::HCP,
+        patch::AMORPHOUS,
         wear::JUNCTION,
         wear::SLIDING,
         wear::IMPACT,
