@@ -58,9 +58,7 @@ fn table4() -> Material {
 }
 
 fn read_toml<T: serde::de::DeserializeOwned>(path: &PathBuf) -> Result<T> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
-    toml::from_str(&text).with_context(|| format!("parsing {}", path.display()))
+    crate::config::read(path)
 }
 
 /// Runs `cgdem patch`.

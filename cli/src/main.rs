@@ -7,6 +7,7 @@ mod cmd_md;
 mod cmd_patch;
 mod cmd_pipeline;
 mod cmd_report;
+mod config;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};

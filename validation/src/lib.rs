@@ -6,6 +6,7 @@
 //! - `report`: `cgdem report`, every claim of the papers the workbench reproduces with its figure,
 //!   tolerance and verdict, as one self-contained HTML page, `summary.csv` and the figures' data.
 
+pub mod bench;
 pub mod error;
 pub mod figures;
 pub mod report;

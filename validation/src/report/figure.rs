@@ -159,12 +159,25 @@ impl Figure {
         key
     }
 
+    /// Key entries per row.
+    fn per_row(&self) -> usize {
+        (self.size_width() / KEY_ENTRY_WIDTH).max(1) as usize
+    }
+
+    fn size_width(&self) -> u32 {
+        if self.columns.clamp(1, self.panels.len().max(1)) == 1 {
+            960
+        } else {
+            1300
+        }
+    }
+
     fn size(&self) -> (u32, u32, u32) {
         let cols = self.columns.clamp(1, self.panels.len().max(1));
         let rows = self.panels.len().div_ceil(cols).max(1) as u32;
-        let key_rows = self.key().len().div_ceil(KEY_PER_ROW) as u32 + 2;
+        let key_rows = self.key().len().div_ceil(self.per_row()) as u32 + 3;
         let strip = 12 + 26 * key_rows;
-        let width = if cols == 1 { 760 } else { 1300 };
+        let width = if cols == 1 { 960 } else { 1300 };
         (width, strip, strip + 430 * rows)
     }
 
@@ -215,11 +228,12 @@ impl Figure {
     {
         let err = |e: &dyn std::fmt::Display| draw_err(path, e);
         let width = strip.dim_in_pixel().0 as i32 - 40;
-        let col = width / KEY_PER_ROW as i32;
+        let per_row = self.per_row();
+        let col = width / per_row as i32;
         let left = TextStyle::from((FAMILY, 16)).pos(Pos::new(HPos::Left, VPos::Center));
         for (k, (label, sim, reference)) in key.iter().enumerate() {
-            let x = 20 + col * (k % KEY_PER_ROW) as i32;
-            let y = 20 + 26 * (k / KEY_PER_ROW) as i32;
+            let x = 20 + col * (k % per_row) as i32;
+            let y = 20 + 26 * (k / per_row) as i32;
             let c = colour(k);
             let mut segments = Vec::new();
             if *sim {
@@ -239,14 +253,17 @@ impl Figure {
                 .draw(&Text::new(label.to_string(), (x + 56, y), left.clone()))
                 .map_err(|e| err(&e))?;
         }
-        let y = 20 + 26 * key.len().div_ceil(KEY_PER_ROW) as i32;
-        let note = format!(
-            "solid: simulation (the workbench)    dashed: reference (formula or paper, named in the panel title)    mirrors {}",
-            self.mirrors
-        );
-        strip
-            .draw(&Text::new(note, (20, y), left.clone()))
-            .map_err(|e| err(&e))?;
+        let y = 20 + 26 * key.len().div_ceil(per_row) as i32;
+        let notes = [
+            "solid: simulation (the workbench); dashed: reference (formula or paper, named in the panel title)".to_string(),
+            format!("mirrors {}", self.mirrors),
+        ];
+        for (k, note) in notes.into_iter().enumerate() {
+            strip
+                .draw(&Text::new(note, (20, y + 26 * k as i32), left.clone()))
+                .map_err(|e| err(&e))?;
+        }
+        let y = y + 26;
         if !self.banner.is_empty() {
             let style = TextStyle::from((FAMILY, 16))
                 .pos(Pos::new(HPos::Left, VPos::Center))
@@ -286,8 +303,8 @@ impl Figure {
     }
 }
 
-/// Key entries per row.
-const KEY_PER_ROW: usize = 3;
+/// Width of one key entry (line samples and label), pixels.
+const KEY_ENTRY_WIDTH: u32 = 420;
 
 /// A CSV field: quoted when it holds a comma or a quote.
 pub fn csv_field(s: &str) -> String {

@@ -1,8 +1,11 @@
 //! The report's sections, in page order. A section is a module with `pub const SECTION: Section`;
 //! adding one is writing that module and one line in [`all`].
 
+pub mod calibration;
 pub mod force_laws;
+pub mod md;
 pub mod patch;
+pub mod performance;
 pub mod two_particle;
 pub mod wear;
 
@@ -15,6 +18,10 @@ pub fn all() -> Vec<Section> {
         two_particle::SECTION,
         patch::HCP,
         patch::AMORPHOUS,
+        calibration::SECTION,
+        md::SILICA,
+        md::MODEL,
+        performance::SECTION,
         wear::JUNCTION,
         wear::SLIDING,
         wear::IMPACT,
