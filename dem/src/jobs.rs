@@ -258,7 +258,7 @@ where
         let t = Instant::now();
         let result = run(&jobs[j], &dir)?;
         cache.put(&keys[j], &jobs[j], &result)?;
-        tracing::debug!(job = %keys[j], seconds = t.elapsed().as_secs_f64(), "job done");
+        tracing::debug!(job = %keys[j], seconds = %crate::io::Sig(t.elapsed().as_secs_f64(), 3), "job done");
         Ok(())
     };
     if how.at_once <= 1 || mine.len() <= 1 {

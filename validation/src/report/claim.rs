@@ -152,30 +152,7 @@ pub const SUMMARY_HEADER: &str = "paper,item,quantity,reference,measured,toleran
 
 /// `v` with `digits` significant digits, without trailing zeros (the digits that mean something).
 pub fn sig(v: f64, digits: usize) -> String {
-    if !v.is_finite() {
-        return format!("{v}");
-    }
-    if v == 0.0 {
-        return "0".into();
-    }
-    let mag = v.abs().log10().floor() as i32;
-    if !(-4..6).contains(&mag) {
-        let s = format!("{:.*e}", digits.saturating_sub(1), v);
-        // 1.50e-5 -> 1.5e-5
-        return match s.split_once('e') {
-            Some((m, e)) if m.contains('.') => {
-                format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.'))
-            }
-            _ => s,
-        };
-    }
-    let decimals = (digits as i32 - 1 - mag).max(0) as usize;
-    let s = format!("{v:.decimals$}");
-    if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    }
+    dem::io::Sig(v, digits).to_string()
 }
 
 #[cfg(test)]
