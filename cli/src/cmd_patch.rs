@@ -57,7 +57,7 @@ fn table4() -> Material {
     Material::table4(0.15)
 }
 
-fn read_toml<T: serde::de::DeserializeOwned>(path: &PathBuf) -> Result<T> {
+fn read_toml<T: serde::de::DeserializeOwned>(path: &std::path::Path) -> Result<T> {
     crate::config::read(path)
 }
 

@@ -113,7 +113,7 @@ fn cheap_sections_write_a_consistent_report_and_rerun_from_the_cache() {
                 == html.matches("xmlns=\"http://www.w3.org/2000/svg\"").count()
     );
     assert!(!html.contains("<script") && !html.contains("src="));
-    assert!(html.matches("QUICK PROFILE").count() >= 1 + only.len());
+    assert!(html.matches("QUICK PROFILE").count() > only.len());
     assert!(html.contains("Not on main yet"));
     for key in [
         "git revision",

@@ -77,7 +77,7 @@ fn eq3_uncorrected(c: &Closed, m: &Material, dn: f64) -> f64 {
 
 /// Eq (5).
 fn eq5(c: &Closed, dn: f64) -> f64 {
-    ((c.delta_f - dn) / c.delta_f).min(1.0).max(0.0) * c.f_mt
+    ((c.delta_f - dn) / c.delta_f).clamp(0.0, 1.0) * c.f_mt
 }
 
 fn grid(lo: f64, hi: f64, n: usize) -> impl Iterator<Item = f64> {

@@ -224,7 +224,7 @@ fn bond(ri: f64, rj: f64, scaling: f64) -> Result<Measured> {
     while gap(&s) < 1.05 * pp.delta_f {
         let g = gap(&s);
         s.step()?;
-        if k % 200 == 0 {
+        if k.is_multiple_of(200) {
             // The force on j at the start of the step (the gap g): cohesion pulls j towards i (-x).
             curve.push((g / pp.delta_e, -s.forces()[1].x / (pp.k_n * pp.delta_e)));
         }
