@@ -57,7 +57,13 @@ enum Command {
 
 fn main() -> Result<()> {
     let cli = Cli::parse();
-    init_logs(cli.verbose);
+    // An MD worker's stderr is its job's `worker.log`, the record of the run: it logs every stage.
+    let worker = matches!(cli.command, Command::MdWorker(_));
+    init_logs(if worker {
+        cli.verbose.max(1)
+    } else {
+        cli.verbose
+    });
     // An MD worker keeps the default Ctrl-C behaviour (the process ends at once): LAMMPS cannot
     // stop mid-run cleanly, and the stages it finished are already on disk (md_bridge::stages).
     if !matches!(cli.command, Command::MdWorker(_)) {

@@ -122,6 +122,26 @@ fn summary(runs: &[SectionRun]) -> String {
         count(Verdict::Fail),
         count(Verdict::Info)
     );
+    // The state at a glance: one row per section.
+    h += "<table id=\"summary-sections\">\n<tr><th>section</th><th>pass</th><th>fail</th><th>info</th></tr>\n";
+    for r in runs {
+        let n = |v: Verdict| {
+            claims
+                .iter()
+                .filter(|(s, c)| *s == r.section.id && c.verdict() == v)
+                .count()
+        };
+        let fail = n(Verdict::Fail);
+        h += &format!(
+            "<tr><td><a href=\"#{}\">{}</a></td><td class=\"num\">{}</td><td class=\"num{}\">{fail}</td><td class=\"num\">{}</td></tr>\n",
+            esc(r.section.id),
+            esc(r.section.title),
+            n(Verdict::Pass),
+            if fail > 0 { " fail" } else { "" },
+            n(Verdict::Info)
+        );
+    }
+    h += "</table>\n";
     let owned: Vec<Claim> = claims.iter().map(|(_, c)| c.clone()).collect();
     let sections: Vec<&str> = claims.iter().map(|(s, _)| *s).collect();
     h += &claims_table(&owned, Some(&sections));
