@@ -282,7 +282,7 @@ where
         // Provenance: which shard of how many ran the job (a cluster run's ranks show here).
         let ran_by = format!("{} {}\n", how.shard.index, how.shard.count);
         write_atomic(&dir.join("ran_by"), ran_by.as_bytes())?;
-        tracing::debug!(job = %keys[j], seconds = t.elapsed().as_secs_f64(), "job done");
+        tracing::debug!(job = %keys[j], seconds = %crate::io::Sig(t.elapsed().as_secs_f64(), 3), "job done");
         Ok(())
     };
     if how.at_once <= 1 || mine.len() <= 1 {

@@ -14,6 +14,7 @@
 //! bonds at the ragged wall faces, which biases E low by about one particle row over the height (3 % at
 //! L = 10 d0, 1 % at 25 d0 in the HCP lattice); the fitted strain removes that bias. Both are reported.
 
+use crate::io::Sig;
 use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
@@ -193,11 +194,11 @@ pub fn elastic(
         curve,
     };
     tracing::info!(
-        e = res.young_modulus,
-        nu = res.poisson_ratio,
+        e = %Sig(res.young_modulus, 4),
+        nu = %Sig(res.poisson_ratio, 4),
         steps,
         converged,
-        seconds = res.wall_seconds,
+        seconds = %Sig(res.wall_seconds, 3),
         "elastic test"
     );
     Ok(res)
