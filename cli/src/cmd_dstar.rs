@@ -29,8 +29,11 @@ pub struct DstarArgs {
 
 /// Runs `cgdem dstar`.
 pub fn run(args: DstarArgs, threads: usize) -> Result<()> {
-    let (file, material) = DstarFile::read(&args.config)
-        .with_context(|| format!("reading {}", args.config.display()))?;
+    let file: DstarFile = crate::config::read(&args.config)?;
+    let base = args.config.parent().unwrap_or(std::path::Path::new("."));
+    let material = file
+        .resolve(base)
+        .with_context(|| format!("in {}", args.config.display()))?;
     let shard = match &args.shard {
         Some(s) => Shard::parse(s)?,
         None => Shard::from_env(),

@@ -25,8 +25,11 @@ pub struct JunctionArgs {
 
 /// Runs `cgdem junction`.
 pub fn run(args: JunctionArgs, threads: usize) -> Result<()> {
-    let (file, material) = JunctionFile::read(&args.config)
-        .with_context(|| format!("reading {}", args.config.display()))?;
+    let file: JunctionFile = crate::config::read(&args.config)?;
+    let base = args.config.parent().unwrap_or(std::path::Path::new("."));
+    let material = file
+        .resolve(base)
+        .with_context(|| format!("in {}", args.config.display()))?;
     let cfg = &file.junction;
     let unit = material.units.length_name();
     tracing::info!(

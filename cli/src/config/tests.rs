@@ -45,6 +45,24 @@ fn kinds() -> Vec<ConfigKind> {
             },
         },
         ConfigKind {
+            name: "junction",
+            check: |t| {
+                let f = via::<validation::wear::junction::JunctionFile>(t)?;
+                f.resolve(&configs_dir())
+                    .map(|_| ())
+                    .map_err(|e| e.to_string())
+            },
+        },
+        ConfigKind {
+            name: "dstar",
+            check: |t| {
+                let f = via::<validation::wear::dstar::DstarFile>(t)?;
+                f.resolve(&configs_dir())
+                    .map(|_| ())
+                    .map_err(|e| e.to_string())
+            },
+        },
+        ConfigKind {
             name: "md silica",
             check: |t| {
                 via::<SilicaConfig>(t)?
@@ -90,6 +108,8 @@ fn seeds(kind: &str) -> Vec<(String, String)> {
         "sample" => "sample-",
         "calibrate" => "calibrate-",
         "md silica" => "silica-",
+        "junction" => "junction-",
+        "dstar" => "dstar-",
         _ => "\0",
     };
     let mut out: Vec<(String, String)> = std::fs::read_dir(configs_dir())

@@ -28,7 +28,7 @@ use dem::Parallelism;
 use serde::{Deserialize, Serialize};
 use wear::dstar::{next_step, Bracket, Probe, SearchSettings, Step};
 
-use super::junction::{read_toml, relaxed_sample, run_junction, JunctionSummary, SampleJob};
+use super::junction::{relaxed_sample, run_junction, JunctionSummary, SampleJob};
 use crate::error::{Result, ValidationError};
 use crate::figures::dstar::{draw_outcomes, OutcomeRow};
 
@@ -98,16 +98,15 @@ fn yes() -> bool {
 }
 
 impl DstarFile {
-    /// Reads the file and resolves its material (relative paths from the file's folder).
-    pub fn read(path: &Path) -> Result<(Self, ResolvedMaterial)> {
-        let f: DstarFile = read_toml(path)?;
-        let m = f.material.resolve(
-            path.parent().unwrap_or(Path::new(".")),
-            f.units,
-            ForceLaw::Cohesive,
-        )?;
-        f.settings()?;
-        Ok((f, m))
+    /// Resolves the material (relative paths from `base`, the config's folder) and checks the
+    /// search settings.
+    pub fn resolve(&self, base: &Path) -> Result<ResolvedMaterial> {
+        let m = self
+            .material
+            .resolve(base, self.units, ForceLaw::Cohesive)?;
+        self.junction.validate()?;
+        self.settings()?;
+        Ok(m)
     }
 
     /// The search settings, with the geometry's limits when none are given.

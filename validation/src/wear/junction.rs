@@ -43,24 +43,9 @@ fn nano() -> Units {
     Units::Nano
 }
 
-/// Reads and parses a TOML config file of type `T`, naming the file in errors.
-pub fn read_toml<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T> {
-    let text = std::fs::read_to_string(path).map_err(|e| ValidationError::io(path, e))?;
-    toml::from_str(&text).map_err(|e| ValidationError::Config {
-        path: path.display().to_string(),
-        reason: e.to_string(),
-    })
-}
-
 impl JunctionFile {
-    /// Reads the file and resolves its material (relative paths from the file's folder).
-    pub fn read(path: &Path) -> Result<(Self, ResolvedMaterial)> {
-        let f: JunctionFile = read_toml(path)?;
-        let material = f.resolve(path.parent().unwrap_or(Path::new(".")))?;
-        Ok((f, material))
-    }
-
-    /// Resolves the material and checks the junction settings.
+    /// Resolves the material (relative paths from `base`, the config's folder) and checks the
+    /// junction settings.
     pub fn resolve(&self, base: &Path) -> Result<ResolvedMaterial> {
         let m = self
             .material
