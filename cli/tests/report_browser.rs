@@ -84,7 +84,7 @@ fn the_report_renders_in_a_real_browser_without_errors() {
             "--profile",
             "quick",
             "--only",
-            "force-laws,two-particle,wear-junction",
+            "force-laws,two-particle,wear-sliding",
             "--out",
         ])
         .arg(&dir)

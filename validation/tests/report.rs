@@ -1,6 +1,7 @@
-//! The report end to end on its cheap sections (force laws, two-particle checks, the wear
-//! placeholders): the files it writes, the summary's columns, every claim's measured value found in
-//! the CSV of the figure that plots it, and a rerun that reuses every case from the cache.
+//! The report end to end on its cheap sections (force laws, two-particle checks, a wear
+//! placeholder): the files it writes, the summary's columns, every claim's measured value found in
+//! the CSV of the figure that plots it, and a rerun that reuses every case from the cache; then the
+//! junction section (quick profile: two runs and a d* search at d0 = 6 nm, about 80 s).
 
 use std::path::{Path, PathBuf};
 
@@ -36,7 +37,7 @@ fn rows(path: &Path) -> Vec<Vec<String>> {
 #[test]
 fn cheap_sections_write_a_consistent_report_and_rerun_from_the_cache() {
     let out = scratch("cheap");
-    let only = ["force-laws", "two-particle", "wear-junction"];
+    let only = ["force-laws", "two-particle", "wear-sliding"];
     let w = run(&options(&out, &only), &Silent).unwrap();
     assert!(w.failed_sections().is_empty(), "{:?}", w.failed_sections());
     assert!(w.cases_run > 10, "{} cases ran", w.cases_run);
@@ -69,24 +70,7 @@ fn cheap_sections_write_a_consistent_report_and_rerun_from_the_cache() {
         assert_ne!(c.verdict(), Verdict::Fail, "{row:?}");
     }
 
-    // Figures through their data: each plotted claim's value is in its figure's CSV.
-    let mut checked = 0;
-    for c in &claims {
-        let Some(p) = &c.plotted else { continue };
-        let csv = rows(&out.join("figures").join(format!("{}.csv", p.figure)));
-        assert_eq!(csv[0], ["panel", "series", "kind", "x", "y"]);
-        let hit = csv[1..]
-            .iter()
-            .find(|r| r[0] == p.panel && r[1] == p.series && r[3].parse::<f64>().unwrap() == p.x);
-        let hit = hit.unwrap_or_else(|| panic!("no point for {c:?} in {}", p.figure));
-        assert_eq!(hit[2], "simulation");
-        assert_eq!(
-            hit[4].parse::<f64>().unwrap().to_bits(),
-            c.measured.to_bits(),
-            "{c:?}"
-        );
-        checked += 1;
-    }
+    let checked = plotted_claims_are_in_their_figures(&out, &claims);
     assert!(checked >= 10, "only {checked} claims are plotted");
     for f in ["force-laws", "two-particle"] {
         for ext in ["svg", "png", "csv"] {
@@ -112,7 +96,12 @@ fn cheap_sections_write_a_consistent_report_and_rerun_from_the_cache() {
             || html.matches("http://").count()
                 == html.matches("xmlns=\"http://www.w3.org/2000/svg\"").count()
     );
-    assert!(!html.contains("<script") && !html.contains("src="));
+    assert!(!html.contains("<script"));
+    // Images only inline (data: URIs), never a file or the network.
+    assert_eq!(
+        html.matches("src=").count(),
+        html.matches("src=\"data:").count()
+    );
     assert!(html.matches("QUICK PROFILE").count() > only.len());
     assert!(html.contains("Not on main yet"));
     for key in [
@@ -132,6 +121,66 @@ fn cheap_sections_write_a_consistent_report_and_rerun_from_the_cache() {
     assert_eq!(again.cases_reused, w.cases_run);
     let summary2 = rows(&out.join("summary.csv"));
     assert_eq!(summary, summary2);
+    std::fs::remove_dir_all(&out).unwrap();
+}
+
+/// Figures through their data: each plotted claim's value is in its figure's CSV, as a simulated
+/// point at the claim's x. Returns how many claims were checked.
+fn plotted_claims_are_in_their_figures(out: &Path, claims: &[&validation::report::Claim]) -> usize {
+    let mut checked = 0;
+    for c in claims {
+        let Some(p) = &c.plotted else { continue };
+        let csv = rows(&out.join("figures").join(format!("{}.csv", p.figure)));
+        assert_eq!(csv[0], ["panel", "series", "kind", "x", "y"]);
+        let hit = csv[1..]
+            .iter()
+            .find(|r| r[0] == p.panel && r[1] == p.series && r[3].parse::<f64>().unwrap() == p.x);
+        let hit = hit.unwrap_or_else(|| panic!("no point for {c:?} in {}", p.figure));
+        assert_eq!(hit[2], "simulation");
+        assert_eq!(
+            hit[4].parse::<f64>().unwrap().to_bits(),
+            c.measured.to_bits(),
+            "{c:?}"
+        );
+        checked += 1;
+    }
+    checked
+}
+
+#[test]
+fn the_junction_section_reports_its_runs_and_search_consistently() {
+    let out = scratch("junction");
+    let only = ["wear-junction"];
+    let w = run(&options(&out, &only), &Silent).unwrap();
+    assert!(w.failed_sections().is_empty(), "{:?}", w.failed_sections());
+    let claims: Vec<_> = w.claims().collect();
+    assert!(plotted_claims_are_in_their_figures(&out, &claims) >= 2);
+    // The paper's small junction smooths plastically in the DEM too (Fig. 10 a-b, d0 = 6 nm).
+    let small = claims
+        .iter()
+        .find(|c| c.item == "Fig. 10 (a-b)")
+        .expect("the D = 10 nm claim");
+    assert_eq!(small.verdict(), Verdict::Pass, "{small:?}");
+    // The search's claim is a number (a bracket centre, or the smallest detaching D), never NaN.
+    let search = claims
+        .iter()
+        .find(|c| c.item == "section 4")
+        .expect("the search claim");
+    assert!(
+        search.measured.is_finite() && search.measured >= 12.0,
+        "{search:?}"
+    );
+    // eq 22 of Table 5 is the reference of both eq 22 rows: 18.5 nm (paper 000 section 4).
+    for c in claims.iter().filter(|c| c.item == "eq 22") {
+        assert!((c.reference - 18.49).abs() < 0.01, "{c:?}");
+    }
+    // Both runs' snapshots are inside the page, and the figure has its data.
+    let html = std::fs::read_to_string(&w.html).unwrap();
+    assert_eq!(html.matches("src=\"data:image/png;base64,").count(), 2);
+    let csv = rows(&out.join("figures").join("junction-outcomes.csv"));
+    assert!(csv.iter().any(|r| r[1] == "plastic smoothing"));
+    let again = run(&options(&out, &only), &Silent).unwrap();
+    assert_eq!(again.cases_run, 0);
     std::fs::remove_dir_all(&out).unwrap();
 }
 

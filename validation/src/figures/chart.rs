@@ -17,8 +17,35 @@ pub(crate) enum Mark {
     Line,
     /// Line with circles (measured points).
     Points,
+    /// Circles alone (outcomes of separate runs, which no line should join).
+    Dots,
     /// Dashed line (targets).
     Target,
+    /// Hollow circles (a paper's outcomes at discrete points).
+    Rings,
+}
+
+/// The key's sample of `mark` in colour `c`, starting at `(x, y)` and 22 pixels wide.
+pub(crate) fn swatch<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    mark: Mark,
+    (x, y): (i32, i32),
+    c: RGBColor,
+) -> std::result::Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let line = |a: i32, b: i32| PathElement::new(vec![(a, y), (b, y)], c.stroke_width(2));
+    match mark {
+        Mark::Line => area.draw(&line(x, x + 22)),
+        Mark::Points => {
+            area.draw(&line(x, x + 22))?;
+            area.draw(&Circle::new((x + 11, y), 4, c.filled()))
+        }
+        Mark::Dots => area.draw(&Circle::new((x + 11, y), 6, c.filled())),
+        Mark::Target => {
+            area.draw(&line(x, x + 8))?;
+            area.draw(&line(x + 13, x + 21))
+        }
+        Mark::Rings => area.draw(&Circle::new((x + 11, y), 8, c.stroke_width(2))),
+    }
 }
 
 /// A series ready to draw: label, points in plot coordinates, how, colour index.
@@ -263,17 +290,29 @@ where
                     .draw_series(LineSeries::new(pts.iter().copied(), colour.stroke_width(2)))
                     .map_err(|e| err(&e))?;
             }
-            Mark::Points => {
+            Mark::Points | Mark::Dots => {
                 chart
                     .draw_series(PointSeries::of_element(
                         pts.iter().copied(),
-                        5,
+                        if *mark == Mark::Dots { 7 } else { 5 },
                         colour.filled(),
                         &|p, s, st| Circle::new(p, s, st),
                     ))
                     .map_err(|e| err(&e))?;
+                if *mark == Mark::Points {
+                    chart
+                        .draw_series(LineSeries::new(pts.iter().copied(), colour.stroke_width(1)))
+                        .map_err(|e| err(&e))?;
+                }
+            }
+            Mark::Rings => {
                 chart
-                    .draw_series(LineSeries::new(pts.iter().copied(), colour.stroke_width(1)))
+                    .draw_series(PointSeries::of_element(
+                        pts.iter().copied(),
+                        11,
+                        colour.stroke_width(2),
+                        &|p, s, st| Circle::new(p, s, st),
+                    ))
                     .map_err(|e| err(&e))?;
             }
             Mark::Target => {

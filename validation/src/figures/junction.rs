@@ -78,15 +78,26 @@ pub fn draw_snapshots(
     let s0 = views[0].0;
     let (lx, ly) = (s0.hi[0] - s0.lo[0], s0.hi[1] - s0.lo[1]);
     let scale = (700.0 / lx).min(600.0 / ly);
-    let (w, h) = ((lx * scale) as u32 + 40, (ly * scale) as u32 + 80);
+    let slices: Vec<Vec<Disc>> = views.iter().map(|(s, _)| slice(s, axis_z, half)).collect();
+    // Discs reach beyond the box by up to their radius (walls, and the periodic direction):
+    // a margin that wide keeps them off the title and the scale bar.
+    let reach = slices
+        .iter()
+        .flatten()
+        .map(|d| d.r * scale)
+        .fold(0.0, f64::max)
+        .ceil() as i32;
+    let (left, top) = (20 + reach, 40 + reach);
+    let w = (lx * scale) as u32 + 2 * left as u32;
+    let h = (ly * scale) as u32 + (top + reach + 34) as u32;
     let root = BitMapBackend::new(path, (2 * w, h)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| draw_err(path, e))?;
     let panels = root.split_evenly((1, 2));
-    for (area, (s, title)) in panels.iter().zip(views) {
+    for ((area, (s, title)), discs) in panels.iter().zip(views).zip(slices) {
         let px = |x: f64, y: f64| {
             (
-                20 + ((x - s.lo[0]) * scale) as i32,
-                50 + ((s.hi[1] - y) * scale) as i32,
+                left + ((x - s.lo[0]) * scale) as i32,
+                top + ((s.hi[1] - y) * scale) as i32,
             )
         };
         area.draw(&Text::new(title, (20, 12), (FAMILY, 20)))
@@ -94,7 +105,7 @@ pub fn draw_snapshots(
         let frame = [px(s.lo[0], s.hi[1]), px(s.hi[0], s.lo[1])];
         area.draw(&Rectangle::new(frame, BLACK.stroke_width(1)))
             .map_err(|e| draw_err(path, e))?;
-        for d in slice(s, axis_z, half) {
+        for d in discs {
             let c = RGBColor(d.rgb.0, d.rgb.1, d.rgb.2);
             let r = ((d.r * scale).round() as u32).max(1);
             area.draw(&Circle::new(px(d.x, d.y), r, c.filled()))
@@ -106,9 +117,9 @@ pub fn draw_snapshots(
             ))
             .map_err(|e| draw_err(path, e))?;
         }
-        let bar = format!("{:.0} {length_unit}", lx);
+        let bar = format!("box {:.0} {length_unit} wide", lx);
         let (x0, y0) = px(s.lo[0], s.lo[1]);
-        area.draw(&Text::new(bar, (x0, y0 + 6), (FAMILY, 16)))
+        area.draw(&Text::new(bar, (x0, y0 + reach + 8), (FAMILY, 16)))
             .map_err(|e| draw_err(path, e))?;
     }
     root.present().map_err(|e| draw_err(path, e))

@@ -10,7 +10,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::error::Result;
-use crate::figures::chart::{panel, Mark, Scale};
+use crate::figures::chart::{panel, swatch, Mark, Scale};
 use crate::figures::style::{colour, draw_err, ensure_font, FAMILY};
 use crate::ValidationError;
 
@@ -21,16 +21,32 @@ pub enum Kind {
     Simulation,
     /// Measured by the workbench at discrete points: dots joined by a solid line.
     SimulationPoints,
+    /// Outcomes of separate runs: dots that no line joins.
+    SimulationMarks,
     /// A formula or a paper's value: dashed.
     Reference,
+    /// A paper's outcomes at discrete points: hollow circles (a run's dot sits inside its ring).
+    ReferenceMarks,
+}
+
+impl Kind {
+    fn mark(self) -> Mark {
+        match self {
+            Kind::Simulation => Mark::Line,
+            Kind::SimulationPoints => Mark::Points,
+            Kind::SimulationMarks => Mark::Dots,
+            Kind::Reference => Mark::Target,
+            Kind::ReferenceMarks => Mark::Rings,
+        }
+    }
 }
 
 impl Kind {
     /// The name in the CSV.
     pub fn name(self) -> &'static str {
         match self {
-            Kind::Simulation | Kind::SimulationPoints => "simulation",
-            Kind::Reference => "reference",
+            Kind::Simulation | Kind::SimulationPoints | Kind::SimulationMarks => "simulation",
+            Kind::Reference | Kind::ReferenceMarks => "reference",
         }
     }
 }
@@ -139,22 +155,24 @@ impl Figure {
         s
     }
 
-    /// Distinct series labels in order of appearance, and whether each has a simulated (solid) and a
-    /// reference (dashed) series: one colour per label across panels, so a case and its reference
-    /// share a colour and differ by the dash.
-    fn key(&self) -> Vec<(&str, bool, bool)> {
-        let mut key: Vec<(&str, bool, bool)> = Vec::new();
+    /// Distinct series labels in order of appearance, each with the marks it is drawn with (a
+    /// simulated and a reference series of one label share its colour and differ by the mark): one
+    /// colour per label across panels.
+    fn key(&self) -> Vec<(&str, Vec<Mark>)> {
+        let mut key: Vec<(&str, Vec<Mark>)> = Vec::new();
         for p in &self.panels {
             for s in &p.series {
-                let sim = s.kind != Kind::Reference;
-                match key.iter_mut().find(|(l, _, _)| *l == s.label) {
-                    Some(k) => {
-                        k.1 |= sim;
-                        k.2 |= !sim;
-                    }
-                    None => key.push((&s.label, sim, !sim)),
+                let mark = s.kind.mark();
+                match key.iter_mut().find(|(l, _)| *l == s.label) {
+                    Some((_, marks)) if !marks.contains(&mark) => marks.push(mark),
+                    Some(_) => {}
+                    None => key.push((&s.label, vec![mark])),
                 }
             }
+        }
+        for (_, marks) in &mut key {
+            // Simulation first, then the reference, as the note under the key reads.
+            marks.sort_by_key(|m| matches!(m, Mark::Target | Mark::Rings));
         }
         key
     }
@@ -201,13 +219,8 @@ impl Figure {
                 .series
                 .iter()
                 .map(|s| {
-                    let c = key.iter().position(|(l, _, _)| *l == s.label).unwrap_or(0);
-                    let mark = match s.kind {
-                        Kind::Simulation => Mark::Line,
-                        Kind::SimulationPoints => Mark::Points,
-                        Kind::Reference => Mark::Target,
-                    };
-                    (s.label.clone(), scale.map(&s.points), mark, c)
+                    let c = key.iter().position(|(l, _)| *l == s.label).unwrap_or(0);
+                    (s.label.clone(), scale.map(&s.points), s.kind.mark(), c)
                 })
                 .collect();
             panel(path, area, (&p.title, &p.x, &p.y), scale, &series)?;
@@ -221,7 +234,7 @@ impl Figure {
         &self,
         path: &Path,
         strip: &DrawingArea<DB, Shift>,
-        key: &[(&str, bool, bool)],
+        key: &[(&str, Vec<Mark>)],
     ) -> Result<()>
     where
         DB::ErrorType: 'static,
@@ -231,23 +244,12 @@ impl Figure {
         let per_row = self.per_row();
         let col = width / per_row as i32;
         let left = TextStyle::from((FAMILY, 16)).pos(Pos::new(HPos::Left, VPos::Center));
-        for (k, (label, sim, reference)) in key.iter().enumerate() {
+        for (k, (label, marks)) in key.iter().enumerate() {
             let x = 20 + col * (k % per_row) as i32;
             let y = 20 + 26 * (k / per_row) as i32;
             let c = colour(k);
-            let mut segments = Vec::new();
-            if *sim {
-                segments.push([(x, y), (x + 22, y)]);
-            }
-            if *reference {
-                let x0 = if *sim { x + 28 } else { x };
-                segments.push([(x0, y), (x0 + 8, y)]);
-                segments.push([(x0 + 13, y), (x0 + 21, y)]);
-            }
-            for seg in segments {
-                strip
-                    .draw(&PathElement::new(seg.to_vec(), c.stroke_width(2)))
-                    .map_err(|e| err(&e))?;
+            for (n, mark) in marks.iter().take(2).enumerate() {
+                swatch(strip, *mark, (x + 28 * n as i32, y), c).map_err(|e| err(&e))?;
             }
             strip
                 .draw(&Text::new(label.to_string(), (x + 56, y), left.clone()))
@@ -255,7 +257,7 @@ impl Figure {
         }
         let y = 20 + 26 * key.len().div_ceil(per_row) as i32;
         let notes = [
-            "solid: simulation (the workbench); dashed: reference (formula or paper, named in the panel title)".to_string(),
+            "solid lines and dots: simulation (the workbench); dashed lines and rings: reference (formula or paper, named in the panel title)".to_string(),
             format!("mirrors {}", self.mirrors),
         ];
         for (k, note) in notes.into_iter().enumerate() {

@@ -280,7 +280,10 @@ fn write_outputs(
     let views = [
         (
             &r.first,
-            format!("start: D = {} {}, d0 = {}", cfg.diameter, units.0, cfg.d0),
+            format!(
+                "start: D = {0} {1}, d0 = {2} {1}",
+                cfg.diameter, units.0, cfg.d0
+            ),
         ),
         (
             &r.last,

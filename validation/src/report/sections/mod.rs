@@ -3,6 +3,7 @@
 
 pub mod calibration;
 pub mod force_laws;
+pub mod junction;
 pub mod md;
 pub mod patch;
 pub mod performance;
@@ -22,7 +23,7 @@ pub fn all() -> Vec<Section> {
         md::SILICA,
         md::MODEL,
         performance::SECTION,
-        wear::JUNCTION,
+        junction::SECTION,
         wear::SLIDING,
         wear::IMPACT,
     ]

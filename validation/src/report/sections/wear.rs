@@ -11,14 +11,6 @@ fn pending(what: &str) -> Result<SectionOutput> {
     })
 }
 
-pub const JUNCTION: Section = Section {
-    id: "wear-junction",
-    title: "Wear: junction shear and d* (paper 000 section 4, eq 22, Table 6)",
-    run: |_: &Context| {
-        pending("the junction scenario (snapshots, verdicts, outcome maps, d* brackets from DEM, MD and eq 22, runs against Table 6) is being built and will add its claims here.")
-    },
-};
-
 pub const SLIDING: Section = Section {
     id: "wear-sliding",
     title: "Wear: third-body sliding (paper 004)",
