@@ -8,7 +8,6 @@ use std::sync::Mutex;
 
 use anyhow::{bail, Context as _, Result};
 use clap::{Args, ValueEnum};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use validation::report::{self, MdSetup, Observer, Options, Profile};
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -35,9 +34,9 @@ pub struct ReportArgs {
     pub only: Option<Vec<String>>,
 }
 
-/// A progress bar per list of cases, with an ETA; hidden when stderr is not a terminal.
+/// A progress bar per list of cases (the CLI's one bar), and a line per section.
 struct Bar {
-    bar: Mutex<Option<ProgressBar>>,
+    bar: Mutex<Option<crate::progress::Bar>>,
 }
 
 impl Bar {
@@ -58,18 +57,8 @@ impl Observer for Bar {
 
     fn cases(&self, what: &str, total: usize, cached: usize) {
         self.finish();
-        let b = ProgressBar::with_draw_target(Some(total as u64), ProgressDrawTarget::stderr());
-        b.set_style(
-            ProgressStyle::with_template(
-                "  {msg} [{bar:30}] {pos}/{len} cases, {elapsed} elapsed, ETA {eta}",
-            )
-            .unwrap_or_else(|_| ProgressStyle::default_bar())
-            .progress_chars("=> "),
-        );
-        b.set_message(what.to_string());
-        b.set_position(cached as u64);
-        b.reset_eta();
-        b.enable_steady_tick(std::time::Duration::from_millis(500));
+        let b = crate::progress::Bar::new(&format!("  {what}"), "cases");
+        b.update(cached as u64, total as u64);
         if let Ok(mut slot) = self.bar.lock() {
             *slot = Some(b);
         }
@@ -81,7 +70,7 @@ impl Observer for Bar {
     fn case_done(&self, _what: &str) {
         if let Ok(b) = self.bar.lock() {
             if let Some(b) = b.as_ref() {
-                b.inc(1);
+                b.inc();
             }
         }
     }

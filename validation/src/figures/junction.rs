@@ -87,17 +87,34 @@ pub fn draw_snapshots(
         .map(|d| d.r * scale)
         .fold(0.0, f64::max)
         .ceil() as i32;
+    // The top wall rises as the junction dilates, past the box of the first frame: each view is
+    // drawn from its highest disc down, and the figure is as tall as the taller view.
+    let tops: Vec<f64> = views
+        .iter()
+        .zip(&slices)
+        .map(|((s, _), discs)| discs.iter().map(|d| d.y).fold(s.hi[1], f64::max))
+        .collect();
+    let bottoms: Vec<f64> = views
+        .iter()
+        .zip(&slices)
+        .map(|((s, _), discs)| discs.iter().map(|d| d.y).fold(s.lo[1], f64::min))
+        .collect();
+    let tall = tops
+        .iter()
+        .zip(&bottoms)
+        .map(|(t, b)| t - b)
+        .fold(ly, f64::max);
     let (left, top) = (20 + reach, 40 + reach);
     let w = (lx * scale) as u32 + 2 * left as u32;
-    let h = (ly * scale) as u32 + (top + reach + 34) as u32;
+    let h = (tall * scale) as u32 + (top + reach + 34) as u32;
     let root = BitMapBackend::new(path, (2 * w, h)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| draw_err(path, e))?;
     let panels = root.split_evenly((1, 2));
-    for ((area, (s, title)), discs) in panels.iter().zip(views).zip(slices) {
+    for (((area, (s, title)), discs), y_top) in panels.iter().zip(views).zip(slices).zip(tops) {
         let px = |x: f64, y: f64| {
             (
                 left + ((x - s.lo[0]) * scale) as i32,
-                top + ((s.hi[1] - y) * scale) as i32,
+                top + ((y_top - y) * scale) as i32,
             )
         };
         area.draw(&Text::new(title, (20, 12), (FAMILY, 20)))
