@@ -2,6 +2,9 @@
 //! configuration (defaults are the papers' values) and a typed result, deterministic for a given sample
 //! and model, returning errors rather than panicking.
 //! - [`patch`]: the patch tests of paper 000 section 3 (elastic constants, tensile and shear strength,
-//!   fracture energy), the inner loop of the calibration.
+//!   fracture energy), the inner loop of the calibration;
+//! - [`plastic`]: plastic wear by impact and scratching (paper 001), a rigid sphere against a surface
+//!   of non-interacting spheres, with its own contact loop.
 
 pub mod patch;
+pub mod plastic;
