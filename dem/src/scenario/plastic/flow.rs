@@ -13,13 +13,16 @@
 //! - Wear volume of a normal impact (eq 16): W_V = m V_z^2 / (2 H).
 //!
 //! Decision (eq 5 in three dimensions): App. B derives dz_x,i in the plane of motion (Fig. 15), where
-//! the horizontal offset of sphere i from the projectile's centre is a. A sphere off that plane, at
-//! azimuth psi from the direction of motion, comes nearer by a cos psi, not a; with a replaced by
-//! the offset along the motion, a_par = (x_i - X) . e, the displacement keeps the distance between the
-//! centres, and so the contact force, unchanged to first order for every sphere, and equals eq 5 in
-//! the plane. [`LateralOffset::AlongMotion`] (the default) does that; [`LateralOffset::Paper`] keeps
-//! eq 5 as printed for comparison. Spheres behind the centre (a_par <= 0) are not ploughed: the
-//! projectile moves away from them.
+//! the horizontal offset of sphere i from the projectile's centre is a = sqrt(2 r h_i - h_i^2), and
+//! the paper applies it to every sphere with i_L = 1, wherever it lies. The default,
+//! [`LateralOffset::Paper`], does the same: it is the model whose figures we reproduce. In it a sphere
+//! that friction drags past the flow threshold (mu F_n > a_i H_l, the scratching-without-indentation
+//! of section 3.1) is lowered even when it lies beside or behind the projectile's centre, which the
+//! geometry of Fig. 15 does not ask for. [`LateralOffset::AlongMotion`] is the geometric variant: a
+//! replaced by the offset along the motion, a_par = (x_i - X) . e, so that the displacement keeps the
+//! distance between the centres, hence the contact force, unchanged to first order for every sphere
+//! (equal to eq 5 in the plane), and spheres behind the centre (a_par <= 0), which the projectile
+//! moves away from, are not lowered. docs/plastic-wear.md compares the two.
 
 use serde::{Deserialize, Serialize};
 
@@ -27,11 +30,12 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum LateralOffset {
-    /// The sphere's offset from the projectile's centre along the direction of motion.
+    /// Eq (5) as printed: a = sqrt(2 r h_i - h_i^2), as if every sphere lay in the plane of motion
+    /// ahead of the centre.
     #[default]
-    AlongMotion,
-    /// Eq (5) as printed: a = sqrt(2 r h_i - h_i^2), as if every sphere lay in the plane of motion.
     Paper,
+    /// The sphere's offset from the projectile's centre along the direction of motion.
+    AlongMotion,
 }
 
 /// Effective area of sphere i, eq (A.1): a_s r / (r - h_i), with `r_minus_h` = r - h_i = Z - z_i.

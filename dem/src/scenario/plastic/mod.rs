@@ -32,14 +32,15 @@ use serde::{Deserialize, Serialize};
 pub use flow::LateralOffset;
 pub use impact::{run_impact, ImpactConfig, ImpactResult, RunSettings, Shot};
 pub use ledger::{EnergyReport, EnergySeries, PlasticLedger};
-pub use model::{PlasticModel, PlasticTimeStep, Projectile};
+pub use model::{ContactModulus, PlasticModel, PlasticTimeStep, Projectile};
 pub use scratch::{
     run_scratch_load, Indent, IndentCurve, ScratchConfig, ScratchResult, ScratchRun, ShearHardness,
     Slide, SlideSeries,
 };
 pub use surface::{Surface, SurfaceSpec};
 pub use sweep::{
-    run_impacts, run_scratches, scratch_jobs, ImpactFile, ImpactSweep, ScratchFile, ScratchSweep,
+    aim_in_cell, run_impacts, run_scratches, scratch_jobs, ImpactFile, ImpactPoint, ImpactSweep,
+    ScratchFile, ScratchSweep,
 };
 
 use crate::units::UnitSystem;

@@ -11,6 +11,28 @@ use crate::force::hertz::{
 };
 use crate::units::UnitSystem;
 
+/// Which contact modulus E* the Hertz law uses (see `force::hertz`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactModulus {
+    /// E / (2 (1 - nu^2)): LAMMPS's `hertz/material` for two particles given the same E and nu, what
+    /// the paper's simulations ran.
+    #[default]
+    Lammps,
+    /// E / (1 - nu^2): an elastic sphere against a rigid one, as the paper's text describes.
+    Rigid,
+}
+
+impl ContactModulus {
+    /// E* of surface spheres of modulus `young` and ratio `poisson`.
+    pub fn of(self, young: f64, poisson: f64) -> f64 {
+        match self {
+            ContactModulus::Lammps => 0.5 * contact_modulus_rigid(young, poisson),
+            ContactModulus::Rigid => contact_modulus_rigid(young, poisson),
+        }
+    }
+}
+
 /// The surface and its contact with the projectile (paper 001 section 3), in SI.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -19,6 +41,8 @@ pub struct PlasticModel {
     pub young_modulus: f64,
     /// Poisson's ratio of the surface spheres; default 0.3 (paper).
     pub poisson_ratio: f64,
+    /// The Hertz contact modulus; default lammps, E / (2 (1 - nu^2)) (see `force::hertz`).
+    pub contact_modulus: ContactModulus,
     /// Coulomb friction coefficient mu of the contacts; default 0.5 (paper).
     pub friction: f64,
     /// Hardness H (Pa); default 1.7 GPa (paper, "unless otherwise specified").
@@ -28,7 +52,7 @@ pub struct PlasticModel {
     /// Tangential stiffness k_t (N/m); default (absent): Mindlin's 8 G* a at the overlap where a
     /// sphere of the flat surface starts to flow (see `force::hertz`).
     pub tangential_stiffness: Option<f64>,
-    /// Offset eq (5) uses; default along_motion (see `flow`).
+    /// Offset eq (5) uses; default paper, eq 5 as printed (see `flow`).
     pub lateral_offset: LateralOffset,
     /// The strip of spheres; default the paper's.
     pub surface: SurfaceSpec,
@@ -39,11 +63,12 @@ impl Default for PlasticModel {
         PlasticModel {
             young_modulus: 200e9,
             poisson_ratio: 0.3,
+            contact_modulus: ContactModulus::Lammps,
             friction: 0.5,
             hardness: 1.7e9,
             mu_a: 0.25,
             tangential_stiffness: None,
-            lateral_offset: LateralOffset::AlongMotion,
+            lateral_offset: LateralOffset::Paper,
             surface: SurfaceSpec::default(),
         }
     }
@@ -150,20 +175,26 @@ impl Params {
         let radius = u.length_from_m(p.radius);
         let r_s = u.length_from_m(model.surface.sphere_radius);
         let mass = u.mass_from_kg(p.mass());
-        let e_star = u.stress_from_pa(contact_modulus_rigid(
-            model.young_modulus,
-            model.poisson_ratio,
-        ));
+        let e_star = u.stress_from_pa(
+            model
+                .contact_modulus
+                .of(model.young_modulus, model.poisson_ratio),
+        );
         let r_star = effective_radius(radius, r_s);
         let hertz = HertzLaw::new(e_star, r_star);
         let hardness = u.stress_from_pa(model.hardness);
         let k_t = match model.tangential_stiffness {
             Some(k) => u.force_from_n(k) / u.length_from_m(1.0),
             None => {
-                let g_star = u.stress_from_pa(contact_shear_modulus_rigid(
-                    model.young_modulus,
-                    model.poisson_ratio,
-                ));
+                // The shear modulus takes the same factor as E*.
+                let rigid = contact_modulus_rigid(model.young_modulus, model.poisson_ratio);
+                let share = model
+                    .contact_modulus
+                    .of(model.young_modulus, model.poisson_ratio)
+                    / rigid;
+                let g_star = u.stress_from_pa(
+                    share * contact_shear_modulus_rigid(model.young_modulus, model.poisson_ratio),
+                );
                 mindlin_stiffness(g_star, r_star, hertz.overlap_at(cell_area * hardness))
             }
         };
@@ -212,8 +243,26 @@ impl Params {
             / self.cell_area.sqrt()
     }
 
+    /// Overlap at which a sphere of the flat surface starts to flow.
+    pub fn flow_overlap(&self) -> f64 {
+        self.hertz.overlap_at(self.flow_force())
+    }
+
     /// The time step of `spec` with the stable step `stable` (engine units), refusing one above it.
-    pub fn time_step(&self, spec: PlasticTimeStep, stable: f64) -> Result<f64> {
+    /// A fraction of the stable step is also kept below `max_advance` flow overlaps per step at the
+    /// projectile's fastest `speed` (see [`RunSettings`](super::RunSettings)).
+    pub fn time_step(
+        &self,
+        spec: PlasticTimeStep,
+        stable: f64,
+        max_advance: f64,
+        speed: f64,
+    ) -> Result<f64> {
+        if !(max_advance > 0.0) {
+            return Err(DemError::InvalidConfig(format!(
+                "run.max_advance = {max_advance} must be positive"
+            )));
+        }
         let dt = match spec {
             PlasticTimeStep::FractionOfStable(f) => {
                 if !(f > 0.0 && f <= 1.0) {
@@ -221,7 +270,7 @@ impl Params {
                         "time_step.fraction_of_stable = {f} must lie in (0, 1]"
                     )));
                 }
-                f * stable
+                (f * stable).min(max_advance * self.flow_overlap() / speed)
             }
             PlasticTimeStep::Seconds(s) => {
                 if let Some(m) = not_positive(&[("time_step.seconds", s)]) {
@@ -259,13 +308,20 @@ mod tests {
         // Mass 33.5 g; H a_s = 1700 MPa * 0.313 mm^2 = 533 N.
         assert!((q.mass - 33.51).abs() < 0.01);
         assert!((q.flow_force() - 1700.0 * a_s).abs() < 1e-9);
-        // E* = 200 GPa / 0.91, R* = 10 * 0.25 / 10.25 mm: k_h = 4/3 E* sqrt(R*) in N/mm^1.5.
-        let k_h = 4.0 / 3.0 * 200e3 / 0.91 * (2.5f64 / 10.25).sqrt();
+        // E* = 200 GPa / (2 * 0.91) (LAMMPS's mixing), R* = 10 * 0.25 / 10.25 mm:
+        // k_h = 4/3 E* sqrt(R*) in N/mm^1.5.
+        let k_h = 4.0 / 3.0 * 100e3 / 0.91 * (2.5f64 / 10.25).sqrt();
         assert!((q.hertz.k_h - k_h).abs() / k_h < 1e-12);
-        // The overlap at the flow force is ~ 24 um, small against the 0.8 mm crater of Fig. 4.
-        let d = q.hertz.overlap_at(q.flow_force());
-        assert!(d > 0.020 && d < 0.030, "{d}");
+        // The overlap at the flow force is ~ 38 um, small against the 0.8 mm crater of Fig. 4.
+        let d = q.flow_overlap();
+        assert!(d > 0.035 && d < 0.040, "{d}");
         assert!(q.k_t > 0.0 && q.reach == 10.25);
+        // The rigid-projectile modulus is twice as stiff: the overlap shrinks by 2^(2/3).
+        let mut rigid = model;
+        rigid.contact_modulus = ContactModulus::Rigid;
+        let r = Params::new(&rigid, &p, a_s);
+        assert!((r.hertz.k_h / q.hertz.k_h - 2.0).abs() < 1e-12);
+        assert!((d / r.flow_overlap() - 2f64.powf(2.0 / 3.0)).abs() < 1e-9);
     }
 
     #[test]
@@ -296,17 +352,22 @@ mod tests {
         );
         let stable = q.stable_step(100.0, true);
         let s = q.units.time_to_s(stable);
-        assert!(q.time_step(PlasticTimeStep::Seconds(0.5 * s), stable).is_ok());
-        let e = q
-            .time_step(PlasticTimeStep::Seconds(2.0 * s), stable)
-            .unwrap_err();
+        let slow = 1e-3;
+        let step = |spec| q.time_step(spec, stable, 0.01, slow);
+        assert!(step(PlasticTimeStep::Seconds(0.5 * s)).is_ok());
+        let e = step(PlasticTimeStep::Seconds(2.0 * s)).unwrap_err();
         assert!(e.to_string().contains("stable step"), "{e}");
+        assert!(step(PlasticTimeStep::FractionOfStable(1.5)).is_err());
+        let dt = step(PlasticTimeStep::FractionOfStable(0.1)).unwrap();
+        assert!((dt - 0.1 * stable).abs() < 1e-18);
+        // A fast projectile: at most 1 % of the flow overlap per step.
+        let fast = 45.0;
+        let dt = q
+            .time_step(PlasticTimeStep::FractionOfStable(0.1), stable, 0.01, fast)
+            .unwrap();
+        assert!((dt * fast - 0.01 * q.flow_overlap()).abs() < 1e-15);
         assert!(q
-            .time_step(PlasticTimeStep::FractionOfStable(1.5), stable)
+            .time_step(PlasticTimeStep::FractionOfStable(0.1), stable, 0.0, fast)
             .is_err());
-        assert!((q.time_step(PlasticTimeStep::FractionOfStable(0.1), stable).unwrap()
-            - 0.1 * stable)
-            .abs()
-            < 1e-18);
     }
 }

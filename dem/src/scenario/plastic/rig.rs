@@ -276,7 +276,7 @@ impl Rig {
 
             let vertical = p.z - c.z;
             let a_i = effective_area(q.cell_area, q.reach, vertical);
-            let f_z = -f.z;
+            let f_z = f.z; // the sphere is pushed down by what pushes the projectile up
             let flows_v = flows_vertically(f_z, a_i, q.hardness);
             let (along, flows_l) = match heading {
                 Some(e) => (

@@ -203,6 +203,7 @@ impl ScratchConfig {
     pub fn default_run() -> RunSettings {
         RunSettings {
             time_step: PlasticTimeStep::FractionOfStable(0.05),
+            max_advance: 0.01,
             record_every: 0,
         }
     }
@@ -276,7 +277,8 @@ fn scratch_rig(cfg: &ScratchConfig, load: f64) -> Result<(Rig, f64)> {
     let f = u.force_from_n(load);
     let depth = 2.0 * f / (2.0 * std::f64::consts::PI * q.reach * q.hardness);
     let stable = q.stable_step(q.contacts_at_depth(depth), false);
-    let dt = q.time_step(cfg.run.time_step, stable)?;
+    let fastest = u.velocity_from_m_s(cfg.slide.speed.max(cfg.indent.speed));
+    let dt = q.time_step(cfg.run.time_step, stable, cfg.run.max_advance, fastest)?;
     let distance = u.length_from_m(cfg.slide.speed * cfg.slide.duration);
     let x_start = match cfg.slide.start_x {
         Some(x) => u.length_from_m(x),

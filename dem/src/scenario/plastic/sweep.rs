@@ -4,12 +4,20 @@
 //! same list runs side by side on a machine's cores, as a Slurm array or under mpirun.
 //!
 //! A sweep is the Cartesian product of its lists (an empty list keeps the base value): impacts over
-//! `mu_a`, `hardness`, `speed` and `angle_deg` (outermost first), scratches over `mu_a` and `hardness`,
-//! each then over its loads.
+//! `mu_a`, `hardness`, `speed`, `angle_deg` and `aims` landing points (outermost first), scratches
+//! over `mu_a` and `hardness`, each then over its loads.
+//!
+//! Decision (landing points): a 3 mm projectile (Figs. 5-7) meets three to six surface spheres, and
+//! which ones depends on where it lands in the cell of the grid: one impact onto a sphere and one onto
+//! a hollow between three differ by a factor of two in wear volume. The paper does not say where its
+//! projectiles landed. A sweep point is the mean over `aims` landing points spread over the cell by
+//! the R2 low-discrepancy sequence (the first on a sphere, the base `aim_offset`), with the spread
+//! reported beside it, as an erosion experiment averages over many particles.
 
 use serde::{Deserialize, Serialize};
 
 use super::impact::{run_impact, ImpactConfig, ImpactResult, RunSettings, Shot};
+use super::surface::SurfaceSpec;
 use super::model::{PlasticModel, Projectile};
 use super::scratch::{run_scratch_load, Indent, ScratchConfig, ScratchResult, ScratchRun, Slide};
 use crate::error::{DemError, Result};
@@ -28,6 +36,78 @@ pub struct ImpactSweep {
     pub hardness: Vec<f64>,
     /// mu_a.
     pub mu_a: Vec<f64>,
+    /// Landing points per sweep point, spread over the grid's cell; default (0) one, the base aim.
+    pub aims: usize,
+}
+
+/// Landing point `k` of the R2 sequence in the cell of `spec`'s grid (m, from the base aim): k = 0 is
+/// the base aim itself.
+pub fn aim_in_cell(spec: &SurfaceSpec, k: usize) -> [f64; 2] {
+    // R2 (Roberts 2018): the plastic number's powers give the most even 2D sequence.
+    const A1: f64 = 0.754_877_666_246_692_7;
+    const A2: f64 = 0.569_840_290_998_053_2;
+    let (u, v) = ((k as f64 * A1).fract(), (k as f64 * A2).fract());
+    let a_s = spec.length * spec.width / spec.spheres as f64;
+    let s = (a_s / 0.75f64.sqrt()).sqrt();
+    [u * s + 0.5 * v * s, v * s * 0.75f64.sqrt()]
+}
+
+/// The mean of an impact sweep point over its landing points (SI).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ImpactPoint {
+    pub speed: f64,
+    pub angle_deg: f64,
+    pub hardness: f64,
+    pub mu_a: f64,
+    /// Landing points averaged.
+    pub aims: usize,
+    /// Means and standard deviations over the landing points.
+    pub wear_volume: f64,
+    pub wear_volume_sd: f64,
+    pub wear_volume_normal: f64,
+    pub wear_volume_scratch: f64,
+    pub reference_wear_volume: f64,
+    pub cor: f64,
+    pub cor_sd: f64,
+    pub deviation_deg: f64,
+    pub deviation_sd: f64,
+    pub crater_depth: f64,
+    /// The largest energy-balance error of the runs.
+    pub max_balance_error: f64,
+}
+
+impl ImpactPoint {
+    /// The mean of the impacts of one sweep point.
+    pub fn of(runs: &[ImpactResult]) -> ImpactPoint {
+        let n = runs.len().max(1) as f64;
+        let mean = |f: &dyn Fn(&ImpactResult) -> f64| runs.iter().map(f).sum::<f64>() / n;
+        let sd = |f: &dyn Fn(&ImpactResult) -> f64| {
+            let m = mean(f);
+            (runs.iter().map(|r| (f(r) - m).powi(2)).sum::<f64>() / n).sqrt()
+        };
+        let r0 = &runs[0];
+        ImpactPoint {
+            speed: r0.speed,
+            angle_deg: r0.angle_deg,
+            hardness: r0.hardness,
+            mu_a: r0.mu_a,
+            aims: runs.len(),
+            wear_volume: mean(&|r| r.wear_volume),
+            wear_volume_sd: sd(&|r| r.wear_volume),
+            wear_volume_normal: mean(&|r| r.wear_volume_normal),
+            wear_volume_scratch: mean(&|r| r.wear_volume_scratch),
+            reference_wear_volume: r0.reference_wear_volume,
+            cor: mean(&|r| r.cor),
+            cor_sd: sd(&|r| r.cor),
+            deviation_deg: mean(&|r| r.deviation_deg),
+            deviation_sd: sd(&|r| r.deviation_deg),
+            crater_depth: mean(&|r| r.crater_depth),
+            max_balance_error: runs
+                .iter()
+                .map(|r| r.energy.max_balance_error)
+                .fold(0.0, f64::max),
+        }
+    }
 }
 
 /// An impact config file: [`ImpactConfig`]'s sections and an optional `[sweep]`.
@@ -63,7 +143,12 @@ impl ImpactFile {
         }
     }
 
-    /// Every impact of the file (one without a sweep), each validated.
+    /// Landing points per sweep point (at least one).
+    pub fn aims(&self) -> usize {
+        self.sweep.as_ref().map_or(1, |s| s.aims.max(1))
+    }
+
+    /// Every impact of the file (one without a sweep), each validated, landing points innermost.
     pub fn jobs(&self) -> Result<Vec<ImpactConfig>> {
         let base = self.base();
         let sw = self.sweep.clone().unwrap_or_default();
@@ -72,18 +157,29 @@ impl ImpactFile {
             for &h in &or_base(&sw.hardness, base.model.hardness) {
                 for &v in &or_base(&sw.speed, base.impact.speed) {
                     for &a in &or_base(&sw.angle_deg, base.impact.angle_deg) {
-                        let mut c = base.clone();
-                        c.model.mu_a = mu_a;
-                        c.model.hardness = h;
-                        c.impact.speed = v;
-                        c.impact.angle_deg = a;
-                        c.validate().map_err(|e| with_job(e, &c.label()))?;
-                        jobs.push(c);
+                        for k in 0..self.aims() {
+                            let mut c = base.clone();
+                            c.model.mu_a = mu_a;
+                            c.model.hardness = h;
+                            c.impact.speed = v;
+                            c.impact.angle_deg = a;
+                            let d = aim_in_cell(&c.model.surface, k);
+                            c.impact.aim_offset[0] += d[0];
+                            c.impact.aim_offset[1] += d[1];
+                            c.validate().map_err(|e| with_job(e, &c.label()))?;
+                            jobs.push(c);
+                        }
                     }
                 }
             }
         }
         Ok(jobs)
+    }
+
+    /// The sweep points of the results of [`ImpactFile::jobs`] (in that order): means over the
+    /// landing points.
+    pub fn points(&self, runs: &[ImpactResult]) -> Vec<ImpactPoint> {
+        runs.chunks(self.aims()).map(ImpactPoint::of).collect()
     }
 }
 
@@ -253,6 +349,30 @@ mu_a = [0.15, 0.25]
         let mut single: ImpactFile = toml::from_str(FILE).unwrap();
         single.sweep = None;
         assert_eq!(single.jobs().unwrap(), vec![single.base()]);
+    }
+
+    #[test]
+    fn landing_points_fill_the_cell_and_start_on_a_sphere() {
+        let spec = SurfaceSpec::default();
+        assert_eq!(aim_in_cell(&spec, 0), [0.0, 0.0]);
+        let s = (spec.length * spec.width / spec.spheres as f64 / 0.75f64.sqrt()).sqrt();
+        let dy = s * 0.75f64.sqrt();
+        // 64 points: every quarter of the cell (in its own coordinates) holds 12 to 20 of them.
+        let mut quarters = [0usize; 4];
+        for k in 0..64 {
+            let [x, y] = aim_in_cell(&spec, k);
+            let v = y / dy;
+            let u = (x - 0.5 * v * s) / s;
+            assert!((0.0..1.0).contains(&u) && (0.0..1.0).contains(&v));
+            quarters[usize::from(u >= 0.5) + 2 * usize::from(v >= 0.5)] += 1;
+        }
+        assert!(quarters.iter().all(|&q| (12..=20).contains(&q)), "{quarters:?}");
+        let f: ImpactFile = toml::from_str(&format!("{FILE}aims = 3\n")).unwrap();
+        let jobs = f.jobs().unwrap();
+        assert_eq!(jobs.len(), 12);
+        assert_eq!(jobs[0].impact.aim_offset, [0.0, 0.0]);
+        assert_eq!(jobs[1].impact.aim_offset, aim_in_cell(&spec, 1));
+        assert_eq!(jobs[3].impact.aim_offset, [0.0, 0.0]);
     }
 
     #[test]
