@@ -3,9 +3,12 @@
 mod cmd_bench;
 mod cmd_calibrate;
 mod cmd_doctor;
+mod cmd_impact;
 mod cmd_md;
 mod cmd_patch;
 mod cmd_pipeline;
+mod cmd_scratch;
+mod job_args;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -45,6 +48,10 @@ enum Command {
     Calibrate(cmd_calibrate::CalibrateArgs),
     /// Material -> sample -> patch tests -> calibration -> card -> verification: `cgdem pipeline --out DIR`.
     Pipeline(cmd_pipeline::PipelineArgs),
+    /// Plastic wear by impact (paper 001): `cgdem impact configs/impact-normal.toml --out DIR`.
+    Impact(cmd_impact::ImpactArgs),
+    /// Plastic wear by scratching (paper 001): `cgdem scratch configs/scratch.toml --out DIR`.
+    Scratch(cmd_scratch::ScratchArgs),
 }
 
 fn main() -> Result<()> {
@@ -71,7 +78,17 @@ fn main() -> Result<()> {
         Command::Sample(a) => cmd_patch::run_sample(a, cli.threads),
         Command::Calibrate(a) => cmd_calibrate::run(a, cli.threads),
         Command::Pipeline(a) => cmd_pipeline::run(a, cli.threads),
+        Command::Impact(a) => cmd_impact::run(a),
+        Command::Scratch(a) => cmd_scratch::run(a),
     }
+}
+
+/// Reads a TOML config into its typed form (unknown keys are errors: every config struct denies them).
+fn read_toml<T: serde::de::DeserializeOwned>(path: &std::path::Path) -> Result<T> {
+    use anyhow::Context;
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    toml::from_str(&text).with_context(|| format!("parsing {}", path.display()))
 }
 
 /// The DEM threads of `--threads`: 0 takes every core the machine offers.

@@ -5,4 +5,5 @@ pub mod calibration;
 mod chart;
 pub mod md;
 pub mod patch;
+pub mod plastic;
 mod style;

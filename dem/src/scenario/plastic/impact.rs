@@ -131,7 +131,8 @@ pub struct ImpactResult {
     pub first_contact: f64,
     pub contact_time: f64,
     pub energy: EnergyReport,
-    /// Kinetic, strain, friction and wear energy against time from the launch (Fig. 12).
+    /// Kinetic, strain, friction and wear energy against time from the launch (Fig. 12), sampled
+    /// until the contact ends.
     pub series: EnergySeries,
 }
 
@@ -242,6 +243,7 @@ pub fn run_impact(cfg: &ImpactConfig) -> Result<ImpactResult> {
     let (mut first, mut last) = (None::<u64>, 0u64);
     let mut balance0 = None;
     let mut max_err = 0.0f64;
+    let mut was_touching = false;
     let ledger = loop {
         if rig.st.step % 1024 == 0 && crate::interrupt::requested() {
             return Err(DemError::Interrupted { step: rig.st.step });
@@ -260,7 +262,11 @@ pub fn run_impact(cfg: &ImpactConfig) -> Result<ImpactResult> {
             && r.contacts == 0
             && body.vel.z > 0.0
             && body.pos.z - q.reach >= rig.st.surface.top();
-        if step % every == 0 || gone {
+        // Samples until the first contact and during contacts, and one as each contact ends: the
+        // flight out of the crater changes nothing but the time.
+        let leaving = r.contacts == 0 && was_touching;
+        was_touching = r.contacts > 0;
+        if (step % every == 0 && (first.is_none() || r.contacts > 0)) || leaving {
             series.push(u.time_to_s(step as f64 * rig.dt), &r.ledger, to_j);
         }
         if gone {

@@ -201,12 +201,18 @@ fn with_job(e: DemError, label: &str) -> DemError {
 }
 
 /// Runs impacts as cached jobs; results in list order (`None`: another shard's, not done yet).
+/// `done` hears of each job this process finishes (for a progress line).
 pub fn run_impacts(
     jobs: &[ImpactConfig],
     cache: &JobCache,
     how: &RunJobs,
+    done: &(dyn Fn(&ImpactConfig, &ImpactResult) + Sync),
 ) -> Result<Collected<ImpactResult>> {
-    run_jobs(cache, jobs, how, |cfg, _dir| run_impact(cfg))
+    run_jobs(cache, jobs, how, |cfg, _dir| {
+        let r = run_impact(cfg)?;
+        done(cfg, &r);
+        Ok(r)
+    })
 }
 
 /// What a scratch sweep varies (each value then runs every load).
@@ -291,15 +297,19 @@ pub fn scratch_jobs(tests: &[ScratchConfig]) -> Vec<ScratchConfig> {
 /// Runs scratch tests as cached jobs (one per load, each keeping a progress file in its job
 /// directory); one [`ScratchResult`] per test when every job is done (`None` otherwise: another
 /// shard's jobs are pending).
+/// `done` hears of each job this process finishes.
 pub fn run_scratches(
     tests: &[ScratchConfig],
     cache: &JobCache,
     how: &RunJobs,
+    done: &(dyn Fn(&ScratchConfig, &ScratchRun) + Sync),
 ) -> Result<Option<Vec<ScratchResult>>> {
     let jobs = scratch_jobs(tests);
     let runs = run_jobs(cache, &jobs, how, |cfg, dir| {
         let file = ProgressFile::new(dir.join("progress.json"));
-        run_scratch_load(cfg, cfg.indent.loads[0], Some(&file))
+        let r = run_scratch_load(cfg, cfg.indent.loads[0], Some(&file))?;
+        done(cfg, &r);
+        Ok(r)
     })?;
     let Some(runs) = runs.into_iter().collect::<Option<Vec<ScratchRun>>>() else {
         return Ok(None);
