@@ -16,7 +16,6 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use dem::scenario::plastic::scratch::fit_line;
 use dem::scenario::plastic::{
     ImpactConfig, ImpactPoint, ImpactResult, ScratchResult, ScratchRun,
 };
@@ -465,28 +464,10 @@ pub fn fig13(run: &ScratchRun) -> Figure {
     }
 }
 
-/// The loads at and above a test's wear threshold used for its linear fit: the first load whose wear
-/// per distance exceeds 1 % of the largest, up to `span` times that load. Returns (load, wear per
-/// distance) in N and m^3/m, by increasing load.
-pub fn small_loads(test: &ScratchResult, span: f64) -> Vec<(f64, f64)> {
-    let mut pts: Vec<(f64, f64)> = test
-        .loads
-        .iter()
-        .copied()
-        .zip(test.wear_per_distance.iter().copied())
-        .collect();
-    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let top = pts.iter().fold(0.0f64, |m, p| m.max(p.1));
-    let Some(start) = pts.iter().position(|p| p.1 > 0.01 * top) else {
-        return vec![];
-    };
-    let limit = span * pts[start].0;
-    pts[start..].iter().copied().filter(|p| p.0 <= limit).collect()
-}
-
-/// Fig. 10: wear per distance against the load, one line per test (mu_a, H); (b) the small loads of
-/// the first test (up to `span` times its threshold) with their least-squares line.
-pub fn fig10(tests: &[ScratchResult], span: f64) -> Figure {
+/// Fig. 10: wear per distance against the load, one line per test (mu_a, H), with the first test's
+/// Archard line (fitted at small loads) extended over the whole range; (b) the small loads and the
+/// line, the paper's inset.
+pub fn fig10(tests: &[ScratchResult]) -> Figure {
     let mut key = Vec::new();
     let mut a = Vec::new();
     for (k, t) in tests.iter().enumerate() {
@@ -510,35 +491,37 @@ pub fn fig10(tests: &[ScratchResult], span: f64) -> Figure {
         y: "W_V per distance (mm^3/mm)".into(),
         lines: a,
     }];
-    if let Some(t) = tests.first() {
-        let small = small_loads(t, span);
-        if small.len() >= 2 {
-            let pts: Vec<[f64; 2]> = small.iter().map(|p| [p.0, p.1]).collect();
-            let (m, c) = fit_line(&pts);
-            let (lo, hi) = (small[0].0, small[small.len() - 1].0);
-            key.push("linear fit (small loads)".into());
-            let n = key.len() - 1;
-            panels.push(Panel {
-                title: "(b) small loads".into(),
-                x: "load F_z (kN)".into(),
-                y: "W_V per distance (mm^3/mm)".into(),
-                lines: vec![
-                    line(
-                        0,
-                        small.iter().map(|p| (p.0 / 1e3, p.1 * MM2)).collect(),
-                        Style::Points,
-                    ),
-                    line(
-                        n,
-                        [lo, hi]
-                            .iter()
-                            .map(|&f| (f / 1e3, (m * f + c) * MM2))
-                            .collect(),
-                        Style::Reference,
-                    ),
-                ],
-            });
-        }
+    if let Some((t, fit)) = tests.first().and_then(|t| t.archard.as_ref().map(|f| (t, f))) {
+        let small: Vec<(f64, f64)> = sorted(
+            t.loads
+                .iter()
+                .zip(&t.wear_per_distance)
+                .filter(|(f, _)| **f >= fit.threshold_load && **f <= fit.last_load)
+                .map(|(f, w)| (f / 1e3, w * MM2))
+                .collect(),
+        );
+        key.push(format!("Archard fit, R^2 = {:.3}", fit.r2));
+        let n = key.len() - 1;
+        let top = t.loads.iter().fold(0.0f64, |m, f| m.max(*f));
+        let line_at = |f: f64| (f / 1e3, fit.slope * (f - fit.onset_load) * MM2);
+        panels[0].lines.push(line(
+            n,
+            vec![line_at(fit.onset_load), line_at(top)],
+            Style::Reference,
+        ));
+        panels.push(Panel {
+            title: "(b) small loads".into(),
+            x: "load F_z (kN)".into(),
+            y: "W_V per distance (mm^3/mm)".into(),
+            lines: vec![
+                line(0, small, Style::Points),
+                line(
+                    n,
+                    vec![line_at(fit.onset_load), line_at(fit.last_load)],
+                    Style::Reference,
+                ),
+            ],
+        });
     }
     Figure {
         name: "fig10".into(),
@@ -710,7 +693,7 @@ pub fn impact_figures(points: &[ImpactPoint], base: &ImpactConfig) -> Vec<Figure
 /// The figures of scratch tests: Figs. 10, 3 (of the first test with a shear hardness), 13 and 8-9 (of
 /// the first test's run nearest 21 kN, the load of the paper's Fig. 9).
 pub fn scratch_figures(tests: &[ScratchResult]) -> Vec<Figure> {
-    let mut out = vec![fig10(tests, 5.0)];
+    let mut out = vec![fig10(tests)];
     if let Some(t) = tests.iter().find(|t| t.shear_hardness.is_some()) {
         out.push(fig3(t));
     }
@@ -811,17 +794,4 @@ mod tests {
         assert_eq!(f7.panels[1].lines[1].points[2], (90.0, 5.0));
     }
 
-    #[test]
-    fn small_loads_start_at_the_threshold() {
-        let t = ScratchResult {
-            loads: vec![4000.0, 500.0, 1000.0, 2000.0, 9000.0],
-            wear_per_distance: vec![4e-7, 1e-12, 1e-7, 2e-7, 1.5e-6],
-            shear_hardness: None,
-            runs: vec![],
-        };
-        assert_eq!(
-            small_loads(&t, 4.0),
-            vec![(1000.0, 1e-7), (2000.0, 2e-7), (4000.0, 4e-7)]
-        );
-    }
 }

@@ -55,8 +55,8 @@ pub struct Shot {
     /// which the contacts' friction drives.
     #[serde(default = "d_spin")]
     pub spin: bool,
-    /// Longest simulated time (s); default (absent) 40 contact times of the plastic estimate pi /
-    /// alpha of section 4.1, far beyond any rebound.
+    /// Longest simulated time (s); default (absent) 40 contact times (the plastic estimate pi / alpha
+    /// of section 4.1 or Hertz's elastic one, the longer), far beyond any rebound.
     #[serde(default)]
     pub max_time: Option<f64>,
 }
@@ -75,8 +75,9 @@ pub struct RunSettings {
     /// Time step; default 2 % of the stable step of the contacts expected, and at most
     /// `max_advance` (below).
     pub time_step: PlasticTimeStep,
-    /// Largest advance of the projectile in one step, in flow overlaps (the overlap at which a sphere
-    /// of the flat surface flows), for a time step given as a fraction of the stable one; default
+    /// Largest advance of the projectile in one step, in contact overlaps (the overlap at which a
+    /// sphere of the flat surface flows, or the largest a contact reaches if that is smaller), for a
+    /// time step given as a fraction of the stable one; default
     /// 0.01. Why: a sphere crossing the flow threshold keeps the force of its crossing step while it
     /// flows (eq 9 moves it with the projectile), up to one step's advance of overlap above the
     /// threshold; at 45 m/s and 2 % of the stable step that is 10 % of the force and 6 % of the wear
@@ -178,10 +179,17 @@ pub(crate) fn impact_rig(cfg: &ImpactConfig) -> Result<Rig> {
     let s = &cfg.impact;
     let theta = s.angle_deg.to_radians();
     let speed = u.velocity_from_m_s(s.speed);
-    // Contacts expected: the crater of eq 16 at the whole speed, a bound for any angle.
+    // Contacts expected: the crater of eq 16 at the whole speed, a bound for any angle, each at the
+    // flow overlap or at the overlap the whole kinetic energy gives one Hertz contact
+    // (1/2 m V^2 = 2/5 k_h delta^(5/2)) when that is smaller (a hard surface).
     let depth = normal_impact_depth(q.mass, q.radius, speed, q.hardness);
-    let stable = q.stable_step(q.contacts_at_depth(depth), s.spin);
-    let dt = q.time_step(cfg.run.time_step, stable, cfg.run.max_advance, speed)?;
+    let overlap = q.contact_overlap((1.25 * q.mass * speed * speed / q.hertz.k_h).powf(0.4));
+    let stable = q.stable_step(q.contacts_at_depth(depth, overlap), s.spin, overlap);
+    let dt = q.time_step(
+        cfg.run.time_step,
+        stable,
+        (cfg.run.max_advance, overlap, speed),
+    )?;
 
     let site = surface.nearest_site(0.5 * surface.length(), 0.5 * surface.width());
     let aim = Vec3::new(
@@ -224,7 +232,10 @@ pub fn run_impact(cfg: &ImpactConfig) -> Result<ImpactResult> {
     let u = q.units;
     let speed = u.velocity_from_m_s(cfg.impact.speed);
     let depth = normal_impact_depth(q.mass, q.radius, speed, q.hardness);
-    let plastic_time = std::f64::consts::PI * depth / speed;
+    // The longer of the plastic contact time of section 4.1 and the Hertz contact time of the whole
+    // kinetic energy on one contact (2.94 delta_m / V): a hard surface bounces elastically.
+    let delta_m = (1.25 * q.mass * speed * speed / q.hertz.k_h).powf(0.4);
+    let plastic_time = (std::f64::consts::PI * depth / speed).max(2.95 * delta_m / speed);
     let max_time = cfg
         .impact
         .max_time

@@ -219,44 +219,43 @@ impl Params {
         self.cell_area * self.hardness
     }
 
-    /// Stiffness of one contact carrying the flow force (Hertz tangent stiffness there).
-    pub fn flow_stiffness(&self) -> f64 {
-        self.hertz
-            .stiffness(self.hertz.overlap_at(self.flow_force()))
-    }
-
-    /// Stable step of symplectic Euler for a projectile on `contacts` contacts, each at the flow
-    /// force: 2 / omega, omega^2 = K / m with K the larger of the normal stiffnesses and the
-    /// tangential ones seen through the rolling mass (2/7 m with spin).
-    pub fn stable_step(&self, contacts: f64, spin: bool) -> f64 {
-        let n = contacts.max(1.0);
-        let k = (n * self.flow_stiffness()).max(n * self.k_t * if spin { 3.5 } else { 1.0 });
-        2.0 * (self.mass / k).sqrt()
-    }
-
-    /// The largest number of contacts a flat-surface indentation of depth `depth` (plus the elastic
-    /// overlap at the flow force) can hold: the spherical cap's area 2 pi r h over a_s, plus a ring.
-    pub fn contacts_at_depth(&self, depth: f64) -> f64 {
-        let h = depth.max(0.0) + self.hertz.overlap_at(self.flow_force());
-        let area = 2.0 * std::f64::consts::PI * self.reach * h;
-        area / self.cell_area + 2.0 * std::f64::consts::PI * (2.0 * self.reach * h).sqrt()
-            / self.cell_area.sqrt()
-    }
-
     /// Overlap at which a sphere of the flat surface starts to flow.
     pub fn flow_overlap(&self) -> f64 {
         self.hertz.overlap_at(self.flow_force())
     }
 
+    /// The overlap a contact of the run can reach: the flow overlap, unless `cap` (what the run's
+    /// energy or load allows one contact) is smaller.
+    pub fn contact_overlap(&self, cap: f64) -> f64 {
+        self.flow_overlap().min(cap)
+    }
+
+    /// Stable step of symplectic Euler for a projectile on `contacts` contacts at `overlap`: 2 / omega,
+    /// omega^2 = K / m with K the larger of the normal stiffnesses and the tangential ones seen through
+    /// the rolling mass (2/7 m with spin).
+    pub fn stable_step(&self, contacts: f64, spin: bool, overlap: f64) -> f64 {
+        let n = contacts.max(1.0);
+        let k = (n * self.hertz.stiffness(overlap)).max(n * self.k_t * if spin { 3.5 } else { 1.0 });
+        2.0 * (self.mass / k).sqrt()
+    }
+
+    /// The largest number of contacts a flat-surface indentation of depth `depth` (plus a contact's
+    /// `overlap`) can hold: the spherical cap's area 2 pi r h over a_s, plus a ring.
+    pub fn contacts_at_depth(&self, depth: f64, overlap: f64) -> f64 {
+        let h = depth.max(0.0) + overlap;
+        let area = 2.0 * std::f64::consts::PI * self.reach * h;
+        area / self.cell_area
+            + 2.0 * std::f64::consts::PI * (2.0 * self.reach * h).sqrt() / self.cell_area.sqrt()
+    }
+
     /// The time step of `spec` with the stable step `stable` (engine units), refusing one above it.
-    /// A fraction of the stable step is also kept below `max_advance` flow overlaps per step at the
-    /// projectile's fastest `speed` (see [`RunSettings`](super::RunSettings)).
+    /// A fraction of the stable step is also kept below `max_advance` contact overlaps (`overlap`)
+    /// per step at the projectile's fastest `speed` (see [`RunSettings`](super::RunSettings)).
     pub fn time_step(
         &self,
         spec: PlasticTimeStep,
         stable: f64,
-        max_advance: f64,
-        speed: f64,
+        (max_advance, overlap, speed): (f64, f64, f64),
     ) -> Result<f64> {
         if !(max_advance > 0.0) {
             return Err(DemError::InvalidConfig(format!(
@@ -270,7 +269,7 @@ impl Params {
                         "time_step.fraction_of_stable = {f} must lie in (0, 1]"
                     )));
                 }
-                (f * stable).min(max_advance * self.flow_overlap() / speed)
+                (f * stable).min(max_advance * overlap / speed)
             }
             PlasticTimeStep::Seconds(s) => {
                 if let Some(m) = not_positive(&[("time_step.seconds", s)]) {
@@ -350,10 +349,11 @@ mod tests {
             },
             0.3134,
         );
-        let stable = q.stable_step(100.0, true);
+        let d = q.flow_overlap();
+        let stable = q.stable_step(100.0, true, d);
         let s = q.units.time_to_s(stable);
         let slow = 1e-3;
-        let step = |spec| q.time_step(spec, stable, 0.01, slow);
+        let step = |spec| q.time_step(spec, stable, (0.01, d, slow));
         assert!(step(PlasticTimeStep::Seconds(0.5 * s)).is_ok());
         let e = step(PlasticTimeStep::Seconds(2.0 * s)).unwrap_err();
         assert!(e.to_string().contains("stable step"), "{e}");
@@ -363,11 +363,11 @@ mod tests {
         // A fast projectile: at most 1 % of the flow overlap per step.
         let fast = 45.0;
         let dt = q
-            .time_step(PlasticTimeStep::FractionOfStable(0.1), stable, 0.01, fast)
+            .time_step(PlasticTimeStep::FractionOfStable(0.1), stable, (0.01, d, fast))
             .unwrap();
-        assert!((dt * fast - 0.01 * q.flow_overlap()).abs() < 1e-15);
+        assert!((dt * fast - 0.01 * d).abs() < 1e-15);
         assert!(q
-            .time_step(PlasticTimeStep::FractionOfStable(0.1), stable, 0.0, fast)
+            .time_step(PlasticTimeStep::FractionOfStable(0.1), stable, (0.0, d, fast))
             .is_err());
     }
 }
