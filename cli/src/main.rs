@@ -1,6 +1,7 @@
 //! `cgdem`: the workbench binary. One subcommand per pipeline stage; each lives in its own module.
 
 mod cmd_bench;
+mod cmd_bench_plastic;
 mod cmd_calibrate;
 mod cmd_doctor;
 mod cmd_impact;
@@ -52,6 +53,8 @@ enum Command {
     Impact(cmd_impact::ImpactArgs),
     /// Plastic wear by scratching (paper 001): `cgdem scratch configs/scratch.toml --out DIR`.
     Scratch(cmd_scratch::ScratchArgs),
+    /// Cost of one impact and one scratch (paper 001), beside LAMMPS on the same contacts without wear.
+    BenchPlastic(cmd_bench_plastic::BenchPlasticArgs),
 }
 
 fn main() -> Result<()> {
@@ -80,6 +83,7 @@ fn main() -> Result<()> {
         Command::Pipeline(a) => cmd_pipeline::run(a, cli.threads),
         Command::Impact(a) => cmd_impact::run(a),
         Command::Scratch(a) => cmd_scratch::run(a),
+        Command::BenchPlastic(a) => cmd_bench_plastic::run(a),
     }
 }
 

@@ -9,6 +9,12 @@ pub enum ValidationError {
     /// plotters failed to draw or to write the image.
     #[error("figure {path}: {reason}")]
     Draw { path: String, reason: String },
+    /// A run the report needs failed or is not finished.
+    #[error("run: {0}")]
+    Run(String),
+    /// The engine refused or failed a run.
+    #[error(transparent)]
+    Dem(#[from] dem::DemError),
 }
 
 pub type Result<T> = std::result::Result<T, ValidationError>;

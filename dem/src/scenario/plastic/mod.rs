@@ -16,10 +16,12 @@
 //! - [`scratch`]: indentation at constant speed to a set of loads, then sliding at constant speed
 //!   under each load (Figs. 3, 8-10, 13);
 //! - [`sweep`]: lists of impacts or scratches (angles, speeds, hardness, mu_a, loads) as jobs of
-//!   [`crate::jobs`], cached by their inputs.
+//!   [`crate::jobs`], cached by their inputs;
+//! - [`lammps`]: LAMMPS decks of the same contact loop without wear (cross-check and cost).
 
 pub mod flow;
 pub mod impact;
+pub mod lammps;
 pub mod ledger;
 pub mod model;
 mod rig;

@@ -300,7 +300,7 @@ struct Progress {
 
 /// The engine-unit set-up of a scratch: the rig at the start of the indentation, the indentation
 /// speed and the steps of the slide.
-fn scratch_rig(cfg: &ScratchConfig, load: f64) -> Result<(Rig, f64)> {
+pub(crate) fn scratch_rig(cfg: &ScratchConfig, load: f64) -> Result<(Rig, f64)> {
     cfg.validate()?;
     let u = UnitSystem::MILLI;
     let surface = Surface::hexagonal(&cfg.model.surface, |m| u.length_from_m(m))?;
