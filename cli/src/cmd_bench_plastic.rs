@@ -3,9 +3,10 @@
 //! Hertz + Coulomb friction with history, the decks of `dem::scenario::plastic::lammps`).
 //!
 //! Timed, each on one thread: the impact of `--impact` with wear, the same impact on a surface too hard
-//! to flow (the contact loop without wear), and LAMMPS on that elastic impact for the same number of
-//! steps; then the scratch of `--scratch` at `--load` (indentation and slide) with wear, without wear,
-//! and LAMMPS sliding the indenter under the load for the slide's steps from the same depth. The
+//! to flow (the contact loop without wear) at the same time step, and LAMMPS on that elastic impact for
+//! the same number of steps; then the scratch of `--scratch` at `--load` (indentation and slide) with
+//! wear, without wear at the same time step, and LAMMPS sliding the indenter under the load for the
+//! slide's steps from the same depth. The
 //! elastic impact's rebound from LAMMPS is printed beside ours (the two integrators differ at O(dt)).
 //! Figures are wall-clock seconds on a shared machine: the load average is printed with them, and the
 //! ratios, measured one after the other, are the figures to quote.
@@ -18,7 +19,7 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use dem::scenario::plastic::lammps::{impact_deck, read_result, slide_deck, LammpsDeck, DATA_FILE};
 use dem::scenario::plastic::{
-    run_impact, run_scratch_load, ImpactFile, ScratchConfig, ScratchFile,
+    run_impact, run_scratch_load, ImpactFile, PlasticTimeStep, ScratchConfig, ScratchFile,
 };
 use md_bridge::venv::Venv;
 
@@ -83,6 +84,7 @@ pub fn run(args: BenchPlasticArgs) -> Result<()> {
     let worn_s = t.elapsed().as_secs_f64();
     let mut hard = impact.clone();
     hard.model.hardness = UNWORN;
+    hard.run.time_step = PlasticTimeStep::Seconds(worn.time_step);
     let t = Instant::now();
     let elastic = run_impact(&hard)?;
     let elastic_s = t.elapsed().as_secs_f64();
@@ -115,6 +117,7 @@ pub fn run(args: BenchPlasticArgs) -> Result<()> {
     let worn_s = t.elapsed().as_secs_f64();
     let mut hard = scratch.clone();
     hard.model.hardness = UNWORN;
+    hard.run.time_step = PlasticTimeStep::Seconds(worn.time_step);
     let t = Instant::now();
     let elastic = run_scratch_load(&hard, args.load, None)?;
     let elastic_s = t.elapsed().as_secs_f64();

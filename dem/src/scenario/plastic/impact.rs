@@ -152,7 +152,7 @@ impl ImpactConfig {
                 s.angle_deg
             )));
         }
-        if !(s.start_gap >= 0.0) {
+        if s.start_gap.is_nan() || s.start_gap < 0.0 {
             return Err(DemError::InvalidConfig(format!(
                 "impact.start_gap = {} m: the projectile would start inside the surface",
                 s.start_gap

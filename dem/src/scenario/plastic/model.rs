@@ -257,7 +257,7 @@ impl Params {
         stable: f64,
         (max_advance, overlap, speed): (f64, f64, f64),
     ) -> Result<f64> {
-        if !(max_advance > 0.0) {
+        if max_advance.is_nan() || max_advance <= 0.0 {
             return Err(DemError::InvalidConfig(format!(
                 "run.max_advance = {max_advance} must be positive"
             )));

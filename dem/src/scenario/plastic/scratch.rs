@@ -261,7 +261,7 @@ impl ScratchConfig {
                 return Err(DemError::InvalidConfig(m));
             }
         }
-        if !(s.measure_from >= 0.0 && s.measure_from < 1.0) {
+        if !(0.0..1.0).contains(&s.measure_from) {
             return Err(DemError::InvalidConfig(format!(
                 "slide.measure_from = {} must lie in [0, 1)",
                 s.measure_from

@@ -173,7 +173,7 @@ impl Surface {
     /// Appends to `out`, in increasing index order, every sphere whose centre lies within horizontal
     /// distance `reach` of (x, y) (the candidates for a contact).
     pub fn candidates(&self, x: f64, y: f64, reach: f64, out: &mut Vec<u32>) {
-        if !(reach > 0.0) {
+        if reach.is_nan() || reach <= 0.0 {
             return;
         }
         let (dy, s) = (self.row_spacing, self.spacing);
