@@ -60,12 +60,12 @@ pub fn run(args: BenchPlasticArgs) -> Result<()> {
         .scratch
         .clone()
         .unwrap_or_else(|| repo_config("scratch.toml"));
-    let file: ImpactFile = crate::read_toml(&impact_path)?;
+    let file: ImpactFile = crate::config::read(&impact_path)?;
     if file.sweep.is_some() {
         bail!("{} is a sweep: bench-plastic times one impact", impact_path.display());
     }
     let impact = file.base();
-    let scratch: ScratchConfig = crate::read_toml::<ScratchFile>(&scratch_path)?.base();
+    let scratch: ScratchConfig = crate::config::read::<ScratchFile>(&scratch_path)?.base();
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     let venv = if args.no_lammps {

@@ -33,7 +33,7 @@ pub struct ImpactArgs {
 
 /// Runs `cgdem impact`.
 pub fn run(args: ImpactArgs) -> Result<()> {
-    let file: ImpactFile = crate::read_toml(&args.config)?;
+    let file: ImpactFile = crate::config::read(&args.config)?;
     let jobs = file.jobs()?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;

@@ -34,7 +34,7 @@ pub struct ScratchArgs {
 
 /// Runs `cgdem scratch`.
 pub fn run(args: ScratchArgs) -> Result<()> {
-    let file: ScratchFile = crate::read_toml(&args.config)?;
+    let file: ScratchFile = crate::config::read(&args.config)?;
     let tests = file.tests()?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;

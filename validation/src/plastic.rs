@@ -223,7 +223,7 @@ pub fn quick_profile(cache: &JobCache, how: &RunJobs) -> Result<PlasticResults> 
 }
 
 fn pending() -> ValidationError {
-    ValidationError::Run(
+    ValidationError::Report(
         "jobs of other shards are pending: run again once every shard has finished".into(),
     )
 }
