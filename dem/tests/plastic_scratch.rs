@@ -59,7 +59,11 @@ fn scratch_follows_archard_at_small_loads_and_the_shear_hardness() {
     let h = res.shear_hardness.clone().unwrap();
     println!("{fit:?}\n{h:?}");
     assert!(res.runs[0].wear_coefficient() < 0.005);
-    assert!((500.0..=2000.0).contains(&fit.onset_load), "{}", fit.onset_load);
+    assert!(
+        (500.0..=2000.0).contains(&fit.onset_load),
+        "{}",
+        fit.onset_load
+    );
     assert!(fit.points >= 3 && fit.r2 >= 0.97, "{fit:?}");
     assert!(fit.excess_at_largest >= 1.5, "{fit:?}");
     let ratio = h.slope / h.reference;
@@ -96,7 +100,10 @@ fn shear_hardness_sets_the_resistance_to_scratching() {
     }
     assert!(hard.depth < soft.depth && hard.wear_per_distance < soft.wear_per_distance);
     for r in [&soft, &hard] {
-        assert!(r.depth > r.depth_indent, "the indenter sinks as it starts to slide");
+        assert!(
+            r.depth > r.depth_indent,
+            "the indenter sinks as it starts to slide"
+        );
         let a_v0 = *r.indentation.area_indented.last().unwrap();
         assert!(a_v0 > 0.0 && r.area_vertical < 0.1 * a_v0);
         assert!(r.area_lateral > 0.25 * a_v0);

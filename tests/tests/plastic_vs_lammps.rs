@@ -14,7 +14,10 @@ use dem::scenario::plastic::{run_impact, ImpactConfig};
 use md_bridge::venv::Venv;
 
 fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("cgdem-plastic-lammps-{name}-{}", std::process::id()));
+    let d = std::env::temp_dir().join(format!(
+        "cgdem-plastic-lammps-{name}-{}",
+        std::process::id()
+    ));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d
@@ -23,7 +26,10 @@ fn dir(name: &str) -> PathBuf {
 fn lammps(cfg: &ImpactConfig, steps: u64, name: &str) -> [f64; 6] {
     let venv = Venv::locate();
     if let Err(e) = venv.check() {
-        panic!("LAMMPS venv missing or broken ({e}); run `{}`", md_bridge::SETUP_COMMAND);
+        panic!(
+            "LAMMPS venv missing or broken ({e}); run `{}`",
+            md_bridge::SETUP_COMMAND
+        );
     }
     let d = dir(name);
     let deck = impact_deck(cfg, steps).unwrap();
@@ -31,13 +37,25 @@ fn lammps(cfg: &ImpactConfig, steps: u64, name: &str) -> [f64; 6] {
     std::fs::write(d.join(DATA_FILE), &deck.data).unwrap();
     let out = Command::new(venv.lmp_exe().unwrap())
         .current_dir(&d)
-        .args(["-screen", "none", "-nocite", "-log", "log.lammps", "-in", "in.plastic"])
+        .args([
+            "-screen",
+            "none",
+            "-nocite",
+            "-log",
+            "log.lammps",
+            "-in",
+            "in.plastic",
+        ])
         .env("LD_LIBRARY_PATH", venv.root.join("lib"))
         .env("OMP_NUM_THREADS", "1")
         .output()
         .unwrap();
     let log = std::fs::read_to_string(d.join("log.lammps")).unwrap_or_default();
-    assert!(out.status.success(), "lmp failed: {}", &log[log.len().saturating_sub(2000)..]);
+    assert!(
+        out.status.success(),
+        "lmp failed: {}",
+        &log[log.len().saturating_sub(2000)..]
+    );
     let r = read_result(&log).expect("RESULT line");
     std::fs::remove_dir_all(&d).ok();
     r
@@ -67,7 +85,10 @@ fn an_unworn_oblique_impact_rebounds_as_in_lammps() {
         // Friction took energy (the rebound is not elastic) and both agree on how much.
         assert!(ours.cor < 0.999);
         assert!((ours.cor - cor).abs() < 2e-3, "COR");
-        assert!((ours.rebound_angle_deg - theta_r).abs() < 0.2, "rebound angle");
+        assert!(
+            (ours.rebound_angle_deg - theta_r).abs() < 0.2,
+            "rebound angle"
+        );
         assert!((ours.rebound_spin - spin).abs() / spin < 0.01, "spin");
     }
 }

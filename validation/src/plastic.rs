@@ -43,7 +43,14 @@ pub struct Claim {
 }
 
 impl Claim {
-    fn new(figure: &str, quantity: &str, reference: f64, measured: f64, tolerance: f64, rule: Rule) -> Claim {
+    fn new(
+        figure: &str,
+        quantity: &str,
+        reference: f64,
+        measured: f64,
+        tolerance: f64,
+        rule: Rule,
+    ) -> Claim {
         let pass = measured.is_finite()
             && match rule {
                 Rule::Relative => (measured / reference - 1.0).abs() <= tolerance,
@@ -89,13 +96,18 @@ pub struct PlasticResults {
 }
 
 fn curve(p: &[ImpactPoint], speed: f64, mu_a: f64) -> Vec<&ImpactPoint> {
-    p.iter().filter(|x| x.speed == speed && x.mu_a == mu_a).collect()
+    p.iter()
+        .filter(|x| x.speed == speed && x.mu_a == mu_a)
+        .collect()
 }
 
 fn arg(c: &[&ImpactPoint], f: impl Fn(&ImpactPoint) -> f64) -> (f64, f64) {
     c.iter()
         .map(|p| (p.angle_deg, f(p)))
-        .fold((f64::NAN, f64::NEG_INFINITY), |m, x| if x.1 > m.1 { x } else { m })
+        .fold(
+            (f64::NAN, f64::NEG_INFINITY),
+            |m, x| if x.1 > m.1 { x } else { m },
+        )
 }
 
 /// Every claim the results can judge.
@@ -108,33 +120,95 @@ pub fn claims(r: &PlasticResults) -> Vec<Claim> {
             .iter()
             .filter(|x| sel(x))
             .map(ratio)
-            .fold(1.0f64, |w, q| if (q - 1.0).abs() > (w - 1.0).abs() { q } else { w })
+            .fold(1.0f64, |w, q| {
+                if (q - 1.0).abs() > (w - 1.0).abs() {
+                    q
+                } else {
+                    w
+                }
+            })
     };
     if let Some(x) = r
         .normal
         .iter()
         .find(|x| x.hardness == 1.7e9 && x.speed == 45.0)
     {
-        out.push(Claim::new("4", "W_V / eq 16 at H = 1.7 GPa, V_z = 45 m/s", 1.0, ratio(x), 0.15, Rule::Relative));
+        out.push(Claim::new(
+            "4",
+            "W_V / eq 16 at H = 1.7 GPa, V_z = 45 m/s",
+            1.0,
+            ratio(x),
+            0.15,
+            Rule::Relative,
+        ));
     }
-    out.push(Claim::new("4a", "worst W_V / eq 16 over H at V_z = 45 m/s", 1.0, worst(&|x| x.speed == 45.0), 0.15, Rule::Relative));
-    out.push(Claim::new("4b", "worst W_V / eq 16 over V_z at H = 1.7 GPa", 1.0, worst(&|x| x.hardness == 1.7e9), 0.15, Rule::Relative));
+    out.push(Claim::new(
+        "4a",
+        "worst W_V / eq 16 over H at V_z = 45 m/s",
+        1.0,
+        worst(&|x| x.speed == 45.0),
+        0.15,
+        Rule::Relative,
+    ));
+    out.push(Claim::new(
+        "4b",
+        "worst W_V / eq 16 over V_z at H = 1.7 GPa",
+        1.0,
+        worst(&|x| x.hardness == 1.7e9),
+        0.15,
+        Rule::Relative,
+    ));
     // Figs. 5-7.
     let base = curve(&r.oblique, 35.0, 0.25);
     if !base.is_empty() {
         let (at, _) = arg(&base, |p| p.wear_volume);
-        out.push(Claim::new("5a", "angle of the largest wear volume at 35 m/s (deg)", 45.0, at, 25.0, Rule::Absolute));
+        out.push(Claim::new(
+            "5a",
+            "angle of the largest wear volume at 35 m/s (deg)",
+            45.0,
+            at,
+            25.0,
+            Rule::Absolute,
+        ));
         let peaks: Vec<f64> = [30.0, 35.0, 40.0]
             .iter()
             .map(|&v| arg(&curve(&r.oblique, v, 0.25), |p| p.wear_volume).1)
             .collect();
-        out.push(Claim::new("5a", "growth of the peak wear from 30 to 35 to 40 m/s (smaller ratio)", 1.0, (peaks[1] / peaks[0]).min(peaks[2] / peaks[1]), 0.0, Rule::AtLeast));
+        out.push(Claim::new(
+            "5a",
+            "growth of the peak wear from 30 to 35 to 40 m/s (smaller ratio)",
+            1.0,
+            (peaks[1] / peaks[0]).min(peaks[2] / peaks[1]),
+            0.0,
+            Rule::AtLeast,
+        ));
         let (cor_at, _) = arg(&base, |p| -p.cor);
         let (dev_at, _) = arg(&base, |p| p.deviation_deg);
-        out.push(Claim::new("7a", "angle of the smallest COR at mu_a = 0.25 (deg)", 25.0, cor_at, 10.0, Rule::Absolute));
-        out.push(Claim::new("7b", "angle of the largest deviation at mu_a = 0.25 (deg)", 25.0, dev_at, 15.0, Rule::Absolute));
+        out.push(Claim::new(
+            "7a",
+            "angle of the smallest COR at mu_a = 0.25 (deg)",
+            25.0,
+            cor_at,
+            10.0,
+            Rule::Absolute,
+        ));
+        out.push(Claim::new(
+            "7b",
+            "angle of the largest deviation at mu_a = 0.25 (deg)",
+            25.0,
+            dev_at,
+            15.0,
+            Rule::Absolute,
+        ));
         if let Some(p90) = base.iter().find(|p| p.angle_deg == 90.0) {
-            out.push(Claim::new("7a", "COR at 90 deg", 1.0, p90.cor, 0.05, Rule::Relative));
+            out.push(Claim::new(
+                "7a",
+                "COR at 90 deg",
+                1.0,
+                p90.cor,
+                0.05,
+                Rule::Relative,
+            ));
         }
         let soft_mu = r
             .oblique
@@ -143,19 +217,58 @@ pub fn claims(r: &PlasticResults) -> Vec<Claim> {
             .map(|p| p.mu_a)
             .fold(f64::NAN, f64::max);
         let soft = curve(&r.oblique, 35.0, soft_mu);
-        let at60 = |c: &[&ImpactPoint]| c.iter().find(|p| p.angle_deg == 60.0).map(|p| p.wear_volume);
+        let at60 = |c: &[&ImpactPoint]| {
+            c.iter()
+                .find(|p| p.angle_deg == 60.0)
+                .map(|p| p.wear_volume)
+        };
         if let (Some(s), Some(h)) = (at60(&soft), at60(&base)) {
-            out.push(Claim::new("6", &format!("W_V(mu_a = {soft_mu}) / W_V(mu_a = 0.25) at 60 deg"), 1.0, s / h, 0.0, Rule::AtLeast));
+            out.push(Claim::new(
+                "6",
+                &format!("W_V(mu_a = {soft_mu}) / W_V(mu_a = 0.25) at 60 deg"),
+                1.0,
+                s / h,
+                0.0,
+                Rule::AtLeast,
+            ));
         }
     }
     // Figs. 3 and 10.
     if let Some(f) = &r.scratch.archard {
-        out.push(Claim::new("3a", "load at which wear starts (N, Archard line's onset)", 1000.0, f.onset_load, 0.5, Rule::Relative));
-        out.push(Claim::new("10", "R^2 of Archard's line at small loads", 0.97, f.r2, 0.0, Rule::AtLeast));
-        out.push(Claim::new("10", "wear rate at the largest load over Archard's line", 1.5, f.excess_at_largest, 0.0, Rule::AtLeast));
+        out.push(Claim::new(
+            "3a",
+            "load at which wear starts (N, Archard line's onset)",
+            1000.0,
+            f.onset_load,
+            0.5,
+            Rule::Relative,
+        ));
+        out.push(Claim::new(
+            "10",
+            "R^2 of Archard's line at small loads",
+            0.97,
+            f.r2,
+            0.0,
+            Rule::AtLeast,
+        ));
+        out.push(Claim::new(
+            "10",
+            "wear rate at the largest load over Archard's line",
+            1.5,
+            f.excess_at_largest,
+            0.0,
+            Rule::AtLeast,
+        ));
     }
     if let Some(h) = &r.scratch.shear_hardness {
-        out.push(Claim::new("3b", "H_l = dF_x/dA_z over mu_a H", 1.0, h.slope / h.reference, 0.2, Rule::Relative));
+        out.push(Claim::new(
+            "3b",
+            "H_l = dF_x/dA_z over mu_a H",
+            1.0,
+            h.slope / h.reference,
+            0.2,
+            Rule::Relative,
+        ));
     }
     // Figs. 12-13.
     let impact_err = r
@@ -164,20 +277,36 @@ pub fn claims(r: &PlasticResults) -> Vec<Claim> {
         .chain(&r.oblique_runs)
         .map(|x| x.energy.max_balance_error)
         .fold(0.0, f64::max);
-    out.push(Claim::new("12", "largest energy-balance error of the impacts (of E0)", 0.01, impact_err, 0.0, Rule::AtMost));
+    out.push(Claim::new(
+        "12",
+        "largest energy-balance error of the impacts (of E0)",
+        0.01,
+        impact_err,
+        0.0,
+        Rule::AtMost,
+    ));
     let scratch_err = r
         .scratch
         .runs
         .iter()
         .map(|x| x.energy.max_balance_error)
         .fold(0.0, f64::max);
-    out.push(Claim::new("13", "largest energy-balance error of the scratches (of the external work)", 0.01, scratch_err, 0.0, Rule::AtMost));
+    out.push(Claim::new(
+        "13",
+        "largest energy-balance error of the scratches (of the external work)",
+        0.01,
+        scratch_err,
+        0.0,
+        Rule::AtMost,
+    ));
     out
 }
 
-const NORMAL: &str = "[projectile]\nradius = 0.01\ndensity = 8000.0\n[impact]\nspeed = 45.0\nangle_deg = 90.0\n";
+const NORMAL: &str =
+    "[projectile]\nradius = 0.01\ndensity = 8000.0\n[impact]\nspeed = 45.0\nangle_deg = 90.0\n";
 const OBLIQUE: &str = "[model]\nhardness = 6.6e9\n[projectile]\nradius = 0.003\ndensity = 2500.0\n[impact]\nspeed = 35.0\nangle_deg = 45.0\n";
-const ANGLES: &str = "angle_deg = [10.0, 20.0, 25.0, 30.0, 40.0, 50.0, 60.0, 70.0, 80.0, 90.0]\naims = 4\n";
+const ANGLES: &str =
+    "angle_deg = [10.0, 20.0, 25.0, 30.0, 40.0, 50.0, 60.0, 70.0, 80.0, 90.0]\naims = 4\n";
 
 fn parse<T: serde::de::DeserializeOwned>(text: &str) -> T {
     toml::from_str(text).expect("the quick profile's configs parse")
@@ -190,16 +319,24 @@ fn parse<T: serde::de::DeserializeOwned>(text: &str) -> T {
 pub fn quick_profile(cache: &JobCache, how: &RunJobs) -> Result<PlasticResults> {
     let quiet = |_: &_, _: &_| {};
     let files: Vec<ImpactFile> = vec![
-        parse(&format!("{NORMAL}[sweep]\nhardness = [1.0e9, 1.7e9, 4.0e9, 7.0e9]\n")),
+        parse(&format!(
+            "{NORMAL}[sweep]\nhardness = [1.0e9, 1.7e9, 4.0e9, 7.0e9]\n"
+        )),
         parse(&format!("{NORMAL}[sweep]\nspeed = [20.0, 60.0]\n")),
-        parse(&format!("{OBLIQUE}[sweep]\n{ANGLES}speed = [30.0, 35.0, 40.0]\n")),
+        parse(&format!(
+            "{OBLIQUE}[sweep]\n{ANGLES}speed = [30.0, 35.0, 40.0]\n"
+        )),
         parse(&format!("{OBLIQUE}[sweep]\n{ANGLES}mu_a = [0.15]\n")),
-        parse(&format!("{OBLIQUE}[sweep]\nangle_deg = [29.0, 45.0, 90.0]\n")),
+        parse(&format!(
+            "{OBLIQUE}[sweep]\nangle_deg = [29.0, 45.0, 90.0]\n"
+        )),
     ];
     let mut sets = Vec::new();
     for f in &files {
         let jobs = f.jobs()?;
-        let runs: Option<Vec<ImpactResult>> = run_impacts(&jobs, cache, how, &quiet)?.into_iter().collect();
+        let runs: Option<Vec<ImpactResult>> = run_impacts(&jobs, cache, how, &quiet)?
+            .into_iter()
+            .collect();
         sets.push(runs.ok_or_else(pending)?);
     }
     let mut normal = sets[0].clone();
@@ -241,6 +378,9 @@ mod tests {
         assert!(Claim::new("10", "q", 0.97, 0.99, 0.0, Rule::AtLeast).pass);
         assert!(!Claim::new("12", "q", 0.01, 0.02, 0.0, Rule::AtMost).pass);
         assert!(!Claim::new("12", "q", 0.01, f64::NAN, 0.0, Rule::AtMost).pass);
-        assert_eq!(Claim::new("4", "q", 1.0, 1.0, 0.15, Rule::Relative).tolerance_text(), "+-15 %");
+        assert_eq!(
+            Claim::new("4", "q", 1.0, 1.0, 0.15, Rule::Relative).tolerance_text(),
+            "+-15 %"
+        );
     }
 }

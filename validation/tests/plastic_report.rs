@@ -77,12 +77,21 @@ fn quick_profile_claims_and_figures() {
     let files = write_all(&figures, &fig_dir).unwrap();
     for (f, files) in figures.iter().zip(&files) {
         let png = std::fs::read(&files.png).unwrap();
-        assert!(png.starts_with(b"\x89PNG\r\n\x1a\n") && png.len() > 5000, "{}", f.name);
+        assert!(
+            png.starts_with(b"\x89PNG\r\n\x1a\n") && png.len() > 5000,
+            "{}",
+            f.name
+        );
         let svg = std::fs::read_to_string(&files.svg).unwrap();
         assert!(svg.starts_with("<svg") && svg.contains("</svg>"));
         let csv = std::fs::read_to_string(&files.csv).unwrap();
         assert_eq!(csv, f.csv(), "{}", f.name);
-        let points: usize = f.panels.iter().flat_map(|p| &p.lines).map(|l| l.points.len()).sum();
+        let points: usize = f
+            .panels
+            .iter()
+            .flat_map(|p| &p.lines)
+            .map(|l| l.points.len())
+            .sum();
         assert_eq!(csv.lines().count(), points + 1, "{}", f.name);
     }
     // Fig. 4 plots each normal impact's wear volume in mm^3 at its hardness in GPa.

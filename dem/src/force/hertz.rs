@@ -136,7 +136,11 @@ pub fn tangential_step(xi: Vec3, n: &Vec3, slip: &Vec3, k_t: f64, mu: f64, f_n: 
     let trial = h.norm();
     let mut dissipated = 0.0;
     if k_t * trial > cap {
-        h *= if trial > 0.0 { cap / (k_t * trial) } else { 0.0 };
+        h *= if trial > 0.0 {
+            cap / (k_t * trial)
+        } else {
+            0.0
+        };
         dissipated = 0.5 * k_t * ((h0 + h).dot(&du) - (h.norm_squared() - h0.norm_squared()));
     }
     Tangential {
@@ -161,7 +165,11 @@ mod tests {
         assert!(close(e_star, 2.197_802e11, 1e-6));
         let law = HertzLaw::new(e_star, 1e-3);
         let f = law.force(1e-6);
-        assert!(close(f, 4.0 / 3.0 * 2.197_802e11 * 1e-3f64.sqrt() * 1e-9, 1e-6));
+        assert!(close(
+            f,
+            4.0 / 3.0 * 2.197_802e11 * 1e-3f64.sqrt() * 1e-9,
+            1e-6
+        ));
         assert!(close(f, 9.2669, 1e-4), "{f}");
         assert_eq!(law.force(-1e-6), 0.0);
         assert_eq!(law.energy(0.0), 0.0);
@@ -195,7 +203,14 @@ mod tests {
     #[test]
     fn sticking_spring_follows_the_slip_and_stays_tangent() {
         let n = Vec3::new(0.0, 0.0, 1.0);
-        let t = tangential_step(Vec3::zeros(), &n, &Vec3::new(1e-3, 0.0, 5.0), 100.0, 0.5, 10.0);
+        let t = tangential_step(
+            Vec3::zeros(),
+            &n,
+            &Vec3::new(1e-3, 0.0, 5.0),
+            100.0,
+            0.5,
+            10.0,
+        );
         // Only the tangential part of the slip loads the spring.
         assert_eq!(t.xi, Vec3::new(1e-3, 0.0, 0.0));
         assert_eq!(t.force, Vec3::new(-0.1, 0.0, 0.0));
@@ -217,7 +232,11 @@ mod tests {
         // Trial spring (0.012, 0, 0.004): |k xi| = 1.265 > mu F_n = 1: cut back to the cap.
         assert!(close(t.force.norm(), 1.0, 1e-12));
         let trial = Vec3::new(0.012, 0.0, 0.004);
-        assert!(close(t.xi.dot(&trial) / (t.xi.norm() * trial.norm()), 1.0, 1e-12));
+        assert!(close(
+            t.xi.dot(&trial) / (t.xi.norm() * trial.norm()),
+            1.0,
+            1e-12
+        ));
         // Mean force times slip, slip = du - (xi_1 - xi_0).
         let mean_force = 0.5 * k * (xi0 + t.xi);
         let slip = du - (t.xi - xi0);

@@ -16,12 +16,10 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use dem::scenario::plastic::{
-    ImpactConfig, ImpactPoint, ImpactResult, ScratchResult, ScratchRun,
-};
+use dem::scenario::plastic::{ImpactConfig, ImpactPoint, ImpactResult, ScratchResult, ScratchRun};
 use plotters::prelude::*;
 
-use super::chart::{keyed_body, key_height, panel, Mark, Scale, Series};
+use super::chart::{key_height, keyed_body, panel, Mark, Scale, Series};
 use super::style::{draw_err, ensure_font};
 use crate::error::{Result, ValidationError};
 
@@ -213,9 +211,9 @@ pub fn fig4(by_hardness: &[ImpactPoint], by_speed: &[ImpactPoint]) -> Figure {
         });
     }
     if let Some(p0) = by_speed.first() {
-        let (lo, hi) = by_speed
-            .iter()
-            .fold((f64::MAX, 0.0f64), |(a, b), p| (a.min(p.speed), b.max(p.speed)));
+        let (lo, hi) = by_speed.iter().fold((f64::MAX, 0.0f64), |(a, b), p| {
+            (a.min(p.speed), b.max(p.speed))
+        });
         let curve = (0..=60)
             .map(|k| lo + (hi - lo) * k as f64 / 60.0)
             .map(|v| (v, eq16(p0, p0.hardness, v)))
@@ -227,7 +225,12 @@ pub fn fig4(by_hardness: &[ImpactPoint], by_speed: &[ImpactPoint]) -> Figure {
             lines: vec![
                 line(
                     0,
-                    sorted(by_speed.iter().map(|p| (p.speed, p.wear_volume * MM3)).collect()),
+                    sorted(
+                        by_speed
+                            .iter()
+                            .map(|p| (p.speed, p.wear_volume * MM3))
+                            .collect(),
+                    ),
                     Style::Points,
                 ),
                 line(1, curve, Style::Reference),
@@ -267,7 +270,11 @@ pub fn fig5(points: &[ImpactPoint], mu_a: f64, speed: f64) -> Figure {
             .filter(|p| near(p.speed, v))
             .map(|p| (*p).clone())
             .collect();
-        a.push(line(k, by_angle(&pts, |p| p.wear_volume * MM3), Style::Points));
+        a.push(line(
+            k,
+            by_angle(&pts, |p| p.wear_volume * MM3),
+            Style::Points,
+        ));
     }
     let at_v: Vec<ImpactPoint> = at_mu
         .iter()
@@ -278,13 +285,23 @@ pub fn fig5(points: &[ImpactPoint], mu_a: f64, speed: f64) -> Figure {
     key.push(format!("normal part (V = {speed} m/s)"));
     key.push(format!("scratch part (V = {speed} m/s)"));
     let b = vec![
-        line(n, by_angle(&at_v, |p| p.wear_volume_normal * MM3), Style::Points),
-        line(n + 1, by_angle(&at_v, |p| p.wear_volume_scratch * MM3), Style::Points),
+        line(
+            n,
+            by_angle(&at_v, |p| p.wear_volume_normal * MM3),
+            Style::Points,
+        ),
+        line(
+            n + 1,
+            by_angle(&at_v, |p| p.wear_volume_scratch * MM3),
+            Style::Points,
+        ),
     ];
     Figure {
         name: "fig5".into(),
         key,
-        note: Some(format!("mu_a = {mu_a}; each point the mean over landing points in the grid's cell")),
+        note: Some(format!(
+            "mu_a = {mu_a}; each point the mean over landing points in the grid's cell"
+        )),
         columns: 2,
         panels: vec![
             Panel {
@@ -491,7 +508,10 @@ pub fn fig10(tests: &[ScratchResult]) -> Figure {
         y: "W_V per distance (mm^3/mm)".into(),
         lines: a,
     }];
-    if let Some((t, fit)) = tests.first().and_then(|t| t.archard.as_ref().map(|f| (t, f))) {
+    if let Some((t, fit)) = tests
+        .first()
+        .and_then(|t| t.archard.as_ref().map(|f| (t, f)))
+    {
         let small: Vec<(f64, f64)> = sorted(
             t.loads
                 .iter()
@@ -680,8 +700,16 @@ pub fn impact_figures(points: &[ImpactPoint], base: &ImpactConfig) -> Vec<Figure
         let by_h = pick(&|p| near(p.speed, v0) && near(p.mu_a, m0));
         let by_v = pick(&|p| near(p.hardness, h0) && near(p.mu_a, m0));
         let (by_h, by_v) = (
-            if distinct(&by_h, |p| p.hardness).len() > 1 { by_h } else { vec![] },
-            if distinct(&by_v, |p| p.speed).len() > 1 { by_v } else { vec![] },
+            if distinct(&by_h, |p| p.hardness).len() > 1 {
+                by_h
+            } else {
+                vec![]
+            },
+            if distinct(&by_v, |p| p.speed).len() > 1 {
+                by_v
+            } else {
+                vec![]
+            },
         );
         if !(by_h.is_empty() && by_v.is_empty()) {
             out.push(fig4(&by_h, &by_v));
@@ -765,7 +793,12 @@ mod tests {
         assert_eq!(a.lines[1].style, Style::Reference);
         // The CSV carries every plotted point.
         let rows = f.csv().lines().count() - 1;
-        let n: usize = f.panels.iter().flat_map(|p| &p.lines).map(|l| l.points.len()).sum();
+        let n: usize = f
+            .panels
+            .iter()
+            .flat_map(|p| &p.lines)
+            .map(|l| l.points.len())
+            .sum();
         assert_eq!(rows, n);
     }
 
@@ -778,7 +811,10 @@ mod tests {
             }
         }
         let f5 = fig5(&pts, 0.25, 35.0);
-        assert_eq!(f5.key[..2], ["V = 30 m/s".to_string(), "V = 35 m/s".to_string()]);
+        assert_eq!(
+            f5.key[..2],
+            ["V = 30 m/s".to_string(), "V = 35 m/s".to_string()]
+        );
         assert_eq!(f5.panels[0].lines.len(), 2);
         let got = &f5.panels[0].lines[1].points;
         for (g, a) in got.iter().zip([30.0, 60.0, 90.0]) {
@@ -793,5 +829,4 @@ mod tests {
         assert_eq!(f7.panels[0].lines[0].points[0], (30.0, 0.7));
         assert_eq!(f7.panels[1].lines[1].points[2], (90.0, 5.0));
     }
-
 }

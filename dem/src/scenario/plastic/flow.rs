@@ -125,7 +125,10 @@ mod tests {
         for dx in [1e-6, 1e-4] {
             let dz = eq5(r, h, dx);
             let dist = ((a - dx).powi(2) + (r - h + dz).powi(2)).sqrt();
-            assert!((dist - r).abs() < 2.0 * dx * dx / r + 1e-12, "dx {dx}: {dist}");
+            assert!(
+                (dist - r).abs() < 2.0 * dx * dx / r + 1e-12,
+                "dx {dx}: {dist}"
+            );
         }
         // No advance, or no depth: no displacement (App. B's checks).
         assert_eq!(eq5(r, h, 0.0), 0.0);

@@ -159,7 +159,9 @@ impl ImpactConfig {
             )));
         }
         if !s.aim_offset.iter().all(|x| x.is_finite()) {
-            return Err(DemError::InvalidConfig("impact.aim_offset must be finite".into()));
+            return Err(DemError::InvalidConfig(
+                "impact.aim_offset must be finite".into(),
+            ));
         }
         if let Some(t) = s.max_time {
             if let Some(m) = not_positive(&[("impact.max_time", t)]) {
@@ -225,8 +227,8 @@ pub(crate) fn impact_rig(cfg: &ImpactConfig) -> Result<Rig> {
 
 /// Runs one impact.
 pub fn run_impact(cfg: &ImpactConfig) -> Result<ImpactResult> {
-    let _span = tracing::info_span!("impact", v = cfg.impact.speed, angle = cfg.impact.angle_deg)
-        .entered();
+    let _span =
+        tracing::info_span!("impact", v = cfg.impact.speed, angle = cfg.impact.angle_deg).entered();
     let mut rig = impact_rig(cfg)?;
     let q = rig.q;
     let u = q.units;
@@ -241,7 +243,8 @@ pub fn run_impact(cfg: &ImpactConfig) -> Result<ImpactResult> {
         .max_time
         .map_or(40.0 * plastic_time, |t| u.time_from_s(t));
     let max_steps = (max_time / rig.dt).ceil() as u64;
-    let flight = u.length_from_m(cfg.impact.start_gap) / (speed * cfg.impact.angle_deg.to_radians().sin());
+    let flight =
+        u.length_from_m(cfg.impact.start_gap) / (speed * cfg.impact.angle_deg.to_radians().sin());
     let expected = ((flight + 2.0 * plastic_time) / rig.dt).ceil() as u64;
     let every = match cfg.run.record_every {
         0 => (expected / 400).max(1),

@@ -36,7 +36,13 @@ pub const DATA_FILE: &str = "surface.data";
 pub fn impact_deck(cfg: &ImpactConfig, steps: u64) -> Result<LammpsDeck> {
     let rig = impact_rig(cfg)?;
     let fixes = "fix move proj nve/sphere\n".to_string();
-    Ok(deck(&rig, &cfg.model, cfg.projectile.density, &fixes, steps))
+    Ok(deck(
+        &rig,
+        &cfg.model,
+        cfg.projectile.density,
+        &fixes,
+        steps,
+    ))
 }
 
 /// The slide of `cfg` under `load` (N) with the indenter `depth` (m) below first touch at the start,
@@ -168,17 +174,40 @@ mod tests {
         )
         .unwrap();
         let d = impact_deck(&cfg, 1000).unwrap();
-        let atoms: Vec<&str> = d.data.lines().skip_while(|l| !l.starts_with("Atoms")).skip(2).collect();
+        let atoms: Vec<&str> = d
+            .data
+            .lines()
+            .skip_while(|l| !l.starts_with("Atoms"))
+            .skip(2)
+            .collect();
         assert_eq!(atoms.len(), 4961);
-        assert!(atoms[4960].starts_with("4961 2 6e-3 2.5e3 "), "{}", atoms[4960]);
+        assert!(
+            atoms[4960].starts_with("4961 2 6e-3 2.5e3 "),
+            "{}",
+            atoms[4960]
+        );
         assert!(atoms[0].starts_with("1 1 5e-4 8000 "), "{}", atoms[0]);
-        assert!(d.input.contains("hertz/material 2e11 0.0 0.3 tangential linear_history"));
+        assert!(d
+            .input
+            .contains("hertz/material 2e11 0.0 0.3 tangential linear_history"));
         assert!(d.input.contains("run 1000"));
         // 35 m/s at 45 degrees.
         let v = 35.0 / 2f64.sqrt();
-        let line = d.input.lines().find(|l| l.starts_with("velocity proj set")).unwrap();
-        let w: Vec<f64> = line.split_whitespace().skip(3).take(3).map(|x| x.parse().unwrap()).collect();
-        assert!((w[0] - v).abs() < 1e-9 && w[1] == 0.0 && (w[2] + v).abs() < 1e-9, "{line}");
+        let line = d
+            .input
+            .lines()
+            .find(|l| l.starts_with("velocity proj set"))
+            .unwrap();
+        let w: Vec<f64> = line
+            .split_whitespace()
+            .skip(3)
+            .take(3)
+            .map(|x| x.parse().unwrap())
+            .collect();
+        assert!(
+            (w[0] - v).abs() < 1e-9 && w[1] == 0.0 && (w[2] + v).abs() < 1e-9,
+            "{line}"
+        );
         assert_eq!(
             read_result("x\nRESULT 1 2 3 4 5 6\n"),
             Some([1.0, 2.0, 3.0, 4.0, 5.0, 6.0])

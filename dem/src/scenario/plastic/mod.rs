@@ -36,8 +36,8 @@ pub use impact::{run_impact, ImpactConfig, ImpactResult, RunSettings, Shot};
 pub use ledger::{EnergyReport, EnergySeries, PlasticLedger};
 pub use model::{ContactModulus, PlasticModel, PlasticTimeStep, Projectile};
 pub use scratch::{
-    run_scratch_load, ArchardFit, Indent, IndentCurve, ScratchConfig, ScratchResult, ScratchRun, ShearHardness,
-    Slide, SlideSeries,
+    run_scratch_load, ArchardFit, Indent, IndentCurve, ScratchConfig, ScratchResult, ScratchRun,
+    ShearHardness, Slide, SlideSeries,
 };
 pub use surface::{Surface, SurfaceSpec};
 pub use sweep::{

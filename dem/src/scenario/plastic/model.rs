@@ -235,7 +235,8 @@ impl Params {
     /// the rolling mass (2/7 m with spin).
     pub fn stable_step(&self, contacts: f64, spin: bool, overlap: f64) -> f64 {
         let n = contacts.max(1.0);
-        let k = (n * self.hertz.stiffness(overlap)).max(n * self.k_t * if spin { 3.5 } else { 1.0 });
+        let k =
+            (n * self.hertz.stiffness(overlap)).max(n * self.k_t * if spin { 3.5 } else { 1.0 });
         2.0 * (self.mass / k).sqrt()
     }
 
@@ -363,11 +364,19 @@ mod tests {
         // A fast projectile: at most 1 % of the flow overlap per step.
         let fast = 45.0;
         let dt = q
-            .time_step(PlasticTimeStep::FractionOfStable(0.1), stable, (0.01, d, fast))
+            .time_step(
+                PlasticTimeStep::FractionOfStable(0.1),
+                stable,
+                (0.01, d, fast),
+            )
             .unwrap();
         assert!((dt * fast - 0.01 * d).abs() < 1e-15);
         assert!(q
-            .time_step(PlasticTimeStep::FractionOfStable(0.1), stable, (0.0, d, fast))
+            .time_step(
+                PlasticTimeStep::FractionOfStable(0.1),
+                stable,
+                (0.0, d, fast)
+            )
             .is_err());
     }
 }

@@ -217,7 +217,11 @@ impl Rig {
     pub fn step(&mut self) -> Result<StepReport> {
         let (q, dt) = (self.q, self.dt);
         let now = q.units.time_to_s(self.time());
-        let Body { pos: p, vel: v, omega: w } = self.st.body;
+        let Body {
+            pos: p,
+            vel: v,
+            omega: w,
+        } = self.st.body;
         let heading = {
             let h = Vec3::new(v.x, v.y, 0.0);
             let n = h.norm();
@@ -386,9 +390,9 @@ impl Rig {
             if c.flows_l {
                 let along = match q.lateral {
                     LateralOffset::AlongMotion => c.along,
-                    LateralOffset::Paper => {
-                        (q.reach * q.reach - c.vertical * c.vertical).max(0.0).sqrt()
-                    }
+                    LateralOffset::Paper => (q.reach * q.reach - c.vertical * c.vertical)
+                        .max(0.0)
+                        .sqrt(),
                 };
                 let dzx = lateral_displacement(c.vertical, along, advance);
                 dz += dzx;

@@ -269,7 +269,9 @@ impl ScratchConfig {
         }
         if let Some(x) = s.start_x {
             if !x.is_finite() {
-                return Err(DemError::InvalidConfig("slide.start_x must be finite".into()));
+                return Err(DemError::InvalidConfig(
+                    "slide.start_x must be finite".into(),
+                ));
             }
         }
         Ok(())
@@ -281,7 +283,11 @@ impl ScratchConfig {
 enum Phase {
     Indent,
     /// Sliding under `load` (engine units) since step `start`, from x = `x0`.
-    Slide { load: f64, start: u64, x0: f64 },
+    Slide {
+        load: f64,
+        start: u64,
+        x0: f64,
+    },
 }
 
 /// Everything a scratch job has computed so far.
@@ -496,7 +502,10 @@ fn record(
     // The wear volume at the report's level: the rig has already moved the flowing spheres of
     // this step, whose wear the ledger of the next level counts.
     s.wear_volume.push(vol(r.wear_volume));
-    s.energy.push(u.time_to_s(k as f64 * rig.dt), &r.ledger, |e| u.energy_to_j(e));
+    s.energy
+        .push(u.time_to_s(k as f64 * rig.dt), &r.ledger, |e| {
+            u.energy_to_j(e)
+        });
 }
 
 /// The run's figures from its recorded slide.
@@ -525,7 +534,9 @@ fn finish(
     };
     let mean = |v: &[f64]| v[i0..=i1].iter().sum::<f64>() / (i1 - i0 + 1) as f64;
     let Phase::Slide { load: applied, .. } = pr.phase else {
-        return Err(DemError::InvalidConfig("the scratch never reached its load".into()));
+        return Err(DemError::InvalidConfig(
+            "the scratch never reached its load".into(),
+        ));
     };
     let first = pr.initial.unwrap_or_default();
     let last = s.energy.len() - 1;
@@ -627,7 +638,10 @@ fn archard(runs: &[ScratchRun], wearing: &[usize], span: f64) -> Option<ArchardF
     let (slope, b) = fit_line(&pts);
     let mean = pts.iter().map(|p| p[1]).sum::<f64>() / pts.len() as f64;
     let (res, tot) = pts.iter().fold((0.0, 0.0), |(r, t), p| {
-        (r + (p[1] - slope * p[0] - b).powi(2), t + (p[1] - mean).powi(2))
+        (
+            r + (p[1] - slope * p[0] - b).powi(2),
+            t + (p[1] - mean).powi(2),
+        )
     });
     let last = &runs[*wearing.last()?];
     Some(ArchardFit {

@@ -159,7 +159,8 @@ impl Surface {
     /// The sphere nearest the point (x, y).
     pub fn nearest_site(&self, x: f64, y: f64) -> usize {
         let j = ((y / self.row_spacing - 0.5).round().max(0.0) as usize).min(self.ny - 1);
-        let k = ((x / self.spacing - Self::row_offset(j)).round().max(0.0) as usize).min(self.nx - 1);
+        let k =
+            ((x / self.spacing - Self::row_offset(j)).round().max(0.0) as usize).min(self.nx - 1);
         j * self.nx + k
     }
 

@@ -17,9 +17,9 @@
 use serde::{Deserialize, Serialize};
 
 use super::impact::{run_impact, ImpactConfig, ImpactResult, RunSettings, Shot};
-use super::surface::SurfaceSpec;
 use super::model::{PlasticModel, Projectile};
 use super::scratch::{run_scratch_load, Indent, ScratchConfig, ScratchResult, ScratchRun, Slide};
+use super::surface::SurfaceSpec;
 use crate::error::{DemError, Result};
 use crate::io::progress::ProgressFile;
 use crate::jobs::{run_jobs, Collected, JobCache, RunJobs};
@@ -376,7 +376,10 @@ mu_a = [0.15, 0.25]
             assert!((0.0..1.0).contains(&u) && (0.0..1.0).contains(&v));
             quarters[usize::from(u >= 0.5) + 2 * usize::from(v >= 0.5)] += 1;
         }
-        assert!(quarters.iter().all(|&q| (12..=20).contains(&q)), "{quarters:?}");
+        assert!(
+            quarters.iter().all(|&q| (12..=20).contains(&q)),
+            "{quarters:?}"
+        );
         let f: ImpactFile = toml::from_str(&format!("{FILE}aims = 3\n")).unwrap();
         let jobs = f.jobs().unwrap();
         assert_eq!(jobs.len(), 12);
@@ -396,10 +399,9 @@ mu_a = [0.15, 0.25]
 
     #[test]
     fn scratch_jobs_hold_one_load_each() {
-        let f: ScratchFile = toml::from_str(
-            "[indent]\nloads = [1000.0, 2000.0]\n[sweep]\nmu_a = [0.25, 0.4]\n",
-        )
-        .unwrap();
+        let f: ScratchFile =
+            toml::from_str("[indent]\nloads = [1000.0, 2000.0]\n[sweep]\nmu_a = [0.25, 0.4]\n")
+                .unwrap();
         let tests = f.tests().unwrap();
         assert_eq!(tests.len(), 2);
         let jobs = scratch_jobs(&tests);
