@@ -6,6 +6,7 @@ pub mod force_laws;
 pub mod md;
 pub mod patch;
 pub mod performance;
+pub mod plastic;
 pub mod two_particle;
 pub mod wear;
 
@@ -24,6 +25,6 @@ pub fn all() -> Vec<Section> {
         performance::SECTION,
         wear::JUNCTION,
         wear::SLIDING,
-        wear::IMPACT,
+        plastic::SECTION,
     ]
 }
