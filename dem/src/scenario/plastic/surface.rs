@@ -274,14 +274,20 @@ mod tests {
 
     #[test]
     fn bad_strips_are_errors() {
-        let mut spec = SurfaceSpec::default();
-        spec.sphere_radius = 0.5e-3;
+        let spec = SurfaceSpec {
+            sphere_radius: 0.5e-3,
+            ..SurfaceSpec::default()
+        };
         assert!(spec.validate().is_err(), "overlapping spheres");
-        let mut spec = SurfaceSpec::default();
-        spec.width = -1.0;
+        let spec = SurfaceSpec {
+            width: -1.0,
+            ..SurfaceSpec::default()
+        };
         assert!(spec.validate().is_err());
-        let mut spec = SurfaceSpec::default();
-        spec.spheres = 2;
+        let spec = SurfaceSpec {
+            spheres: 2,
+            ..SurfaceSpec::default()
+        };
         assert!(spec.validate().is_err());
     }
 }
