@@ -1,15 +1,19 @@
 //! `cgdem`: the workbench binary. One subcommand per pipeline stage; each lives in its own module.
 
 mod cmd_bench;
+mod cmd_bench_plastic;
 mod cmd_calibrate;
 mod cmd_doctor;
 mod cmd_dstar;
+mod cmd_impact;
 mod cmd_junction;
 mod cmd_md;
 mod cmd_patch;
 mod cmd_pipeline;
 mod cmd_report;
+mod cmd_scratch;
 mod config;
+mod job_args;
 mod progress;
 
 use anyhow::Result;
@@ -54,6 +58,12 @@ enum Command {
     Calibrate(cmd_calibrate::CalibrateArgs),
     /// Material -> sample -> patch tests -> calibration -> card -> verification: `cgdem pipeline --out DIR`.
     Pipeline(cmd_pipeline::PipelineArgs),
+    /// Plastic wear by impact (paper 001): `cgdem impact configs/impact-normal.toml --out DIR`.
+    Impact(cmd_impact::ImpactArgs),
+    /// Plastic wear by scratching (paper 001): `cgdem scratch configs/scratch.toml --out DIR`.
+    Scratch(cmd_scratch::ScratchArgs),
+    /// Cost of one impact and one scratch (paper 001), beside LAMMPS on the same contacts without wear.
+    BenchPlastic(cmd_bench_plastic::BenchPlasticArgs),
     /// Junction shear (paper 000 section 4): `cgdem junction configs/junction-silica-6nm-D20.toml --out DIR`.
     Junction(cmd_junction::JunctionArgs),
     /// Automatic d* search by bisection on the junction size: `cgdem dstar configs/dstar-silica-6nm.toml --out DIR`.
@@ -86,6 +96,9 @@ fn main() -> Result<()> {
         Command::Sample(a) => cmd_patch::run_sample(a, cli.threads),
         Command::Calibrate(a) => cmd_calibrate::run(a, cli.threads),
         Command::Pipeline(a) => cmd_pipeline::run(a, cli.threads),
+        Command::Impact(a) => cmd_impact::run(a),
+        Command::Scratch(a) => cmd_scratch::run(a),
+        Command::BenchPlastic(a) => cmd_bench_plastic::run(a),
         Command::Junction(a) => cmd_junction::run(a, cli.threads),
         Command::Dstar(a) => cmd_dstar::run(a, cli.threads),
         Command::Report(a) => cmd_report::run(a, cli.threads),

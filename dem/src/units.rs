@@ -6,7 +6,9 @@
 //! - [`UnitSystem::REDUCED`]: all scales 1, for dimensionless studies such as paper 000 Table 4;
 //! - [`UnitSystem::NANO`]: nm, ns and attograms (1e-21 kg), for silica-like materials. Then force is pN,
 //!   stress MPa, energy zJ (1e-21 J), surface energy mJ/m^2 and density 1e6 kg/m^3... all of order one to
-//!   1e5 for the paper 000 Table 5 material, far from f64 trouble.
+//!   1e5 for the paper 000 Table 5 material, far from f64 trouble;
+//! - [`UnitSystem::MILLI`]: mm, ms and grams, for the millimetre spheres of the plastic-wear model
+//!   (paper 001). Then force is N, stress MPa, energy mJ, velocity m/s and density 1e6 kg/m^3.
 
 use serde::{Deserialize, Serialize};
 
@@ -33,6 +35,13 @@ impl UnitSystem {
         length_m: 1e-9,
         mass_kg: 1e-21,
         time_s: 1e-9,
+    };
+
+    /// mm, gram, ms.
+    pub const MILLI: UnitSystem = UnitSystem {
+        length_m: 1e-3,
+        mass_kg: 1e-3,
+        time_s: 1e-3,
     };
 
     /// SI value of one engine force unit (N).
@@ -108,6 +117,30 @@ impl UnitSystem {
     pub fn velocity_to_m_s(&self, v: f64) -> f64 {
         v * self.velocity_m_s()
     }
+    /// Kilograms to engine mass.
+    pub fn mass_from_kg(&self, kg: f64) -> f64 {
+        kg / self.mass_kg
+    }
+    /// Engine mass to kilograms.
+    pub fn mass_to_kg(&self, m: f64) -> f64 {
+        m * self.mass_kg
+    }
+    /// Newtons to engine force.
+    pub fn force_from_n(&self, n: f64) -> f64 {
+        n / self.force_n()
+    }
+    /// Engine force to newtons.
+    pub fn force_to_n(&self, f: f64) -> f64 {
+        f * self.force_n()
+    }
+    /// Joules to engine energy.
+    pub fn energy_from_j(&self, j: f64) -> f64 {
+        j / self.energy_j()
+    }
+    /// Engine energy to joules.
+    pub fn energy_to_j(&self, e: f64) -> f64 {
+        e * self.energy_j()
+    }
 }
 
 #[cfg(test)]
@@ -127,6 +160,23 @@ mod tests {
         assert!(close(u.surface_energy_j_m2(), 1e-3), "mJ/m^2");
         assert!(close(u.density_kg_m3(), 1e6));
         assert!(close(u.velocity_m_s(), 1.0), "nm/ns = m/s");
+    }
+
+    #[test]
+    fn milli_derived_units_are_the_named_si_values() {
+        let u = UnitSystem::MILLI;
+        assert!(close(u.force_n(), 1.0), "N");
+        assert!(close(u.stress_pa(), 1e6), "MPa");
+        assert!(close(u.energy_j(), 1e-3), "mJ");
+        assert!(close(u.density_kg_m3(), 1e6));
+        assert!(close(u.velocity_m_s(), 1.0), "mm/ms = m/s");
+        // Paper 001: H = 1.7 GPa is 1700 MPa, rho = 8 g/cm^3 is 8e-3 g/mm^3, 34 J is 34000 mJ.
+        assert!(close(u.stress_from_pa(1.7e9), 1700.0));
+        assert!(close(u.density_from_si(8000.0), 8e-3));
+        assert!(close(u.energy_from_j(34.0), 34e3));
+        assert!(close(u.mass_to_kg(u.mass_from_kg(0.0335)), 0.0335));
+        assert!(close(u.force_to_n(u.force_from_n(527.0)), 527.0));
+        assert!(close(u.energy_to_j(1.0), 1e-3));
     }
 
     #[test]

@@ -63,6 +63,27 @@ fn kinds() -> Vec<ConfigKind> {
             },
         },
         ConfigKind {
+            name: "impact",
+            check: |t| {
+                let mut f = via::<dem::scenario::plastic::ImpactFile>(t)?;
+                // Landing points multiply the jobs without adding a value to validate; a mutated
+                // `aims = 16999` would only cost memory here.
+                if let Some(s) = f.sweep.as_mut() {
+                    s.aims = s.aims.min(1);
+                }
+                f.jobs().map(|_| ()).map_err(|e| e.to_string())
+            },
+        },
+        ConfigKind {
+            name: "scratch",
+            check: |t| {
+                via::<dem::scenario::plastic::ScratchFile>(t)?
+                    .tests()
+                    .map(|_| ())
+                    .map_err(|e| e.to_string())
+            },
+        },
+        ConfigKind {
             name: "md silica",
             check: |t| {
                 via::<SilicaConfig>(t)?
@@ -110,6 +131,8 @@ fn seeds(kind: &str) -> Vec<(String, String)> {
         "md silica" => "silica-",
         "junction" => "junction-",
         "dstar" => "dstar-",
+        "impact" => "impact-",
+        "scratch" => "scratch",
         _ => "\0",
     };
     let mut out: Vec<(String, String)> = std::fs::read_dir(configs_dir())

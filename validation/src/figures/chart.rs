@@ -353,13 +353,34 @@ pub(crate) fn keyed_figure<'a>(
     per_row: usize,
     note: Option<&str>,
 ) -> Result<(Area<'a>, Area<'a>)> {
-    let rows = labels.len().div_ceil(per_row.max(1)) + usize::from(note.is_some());
-    let strip_h = 16 + 28 * rows as u32;
+    let strip_h = key_height(labels.len(), per_row, note.is_some());
     let root = BitMapBackend::new(path, (width, body_height + strip_h)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| draw_err(path, e))?;
-    let (strip, body) = root.split_vertically(strip_h);
-    draw_key(path, &strip, labels, per_row, note)?;
+    let body = keyed_body(path, &root, labels, per_row, note)?;
     Ok((root, body))
+}
+
+/// Height in pixels of the colour key of [`keyed_figure`].
+pub(crate) fn key_height(labels: usize, per_row: usize, note: bool) -> u32 {
+    let rows = labels.div_ceil(per_row.max(1)) + usize::from(note);
+    16 + 28 * rows as u32
+}
+
+/// Fills `root` (of any backend: PNG or SVG) white, draws the colour key of [`keyed_figure`] at its
+/// top and returns the area below it.
+pub(crate) fn keyed_body<DB: DrawingBackend>(
+    path: &Path,
+    root: &DrawingArea<DB, plotters::coord::Shift>,
+    labels: &[&str],
+    per_row: usize,
+    note: Option<&str>,
+) -> Result<DrawingArea<DB, plotters::coord::Shift>>
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE).map_err(|e| draw_err(path, e))?;
+    let (strip, body) = root.split_vertically(key_height(labels.len(), per_row, note.is_some()));
+    draw_key(path, &strip, labels, per_row, note)?;
+    Ok(body)
 }
 
 /// A drawing area of a PNG figure.

@@ -7,6 +7,7 @@ pub mod junction;
 pub mod md;
 pub mod patch;
 pub mod performance;
+pub mod plastic;
 pub mod two_particle;
 pub mod wear;
 
@@ -25,6 +26,6 @@ pub fn all() -> Vec<Section> {
         performance::SECTION,
         junction::SECTION,
         wear::SLIDING,
-        wear::IMPACT,
+        plastic::SECTION,
     ]
 }

@@ -18,11 +18,3 @@ pub const SLIDING: Section = Section {
         pending("the third-body sliding scenario (velocity and density profiles, p_T) is being built and will add its claims here.")
     },
 };
-
-pub const IMPACT: Section = Section {
-    id: "wear-impact",
-    title: "Wear: plastic impact and scratch (paper 001)",
-    run: |_: &Context| {
-        pending("the impact and scratch scenarios (wear volume against eq 16, energy balance eqs 21-23) are being built and will add their claims here.")
-    },
-};
