@@ -90,6 +90,10 @@ impl PairRange for PairCoefficients {
     fn max_cutoff(&self, r_max: f64) -> f64 {
         PairCoefficients::max_cutoff(self, r_max)
     }
+    fn beyond_contact(&self, r: f64) -> f64 {
+        // The largest delta_f of a pair with r_i + r_j <= 2 r.
+        PairCoefficients::max_cutoff(self, r) - 2.0 * r
+    }
 }
 
 /// A running DEM simulation.
