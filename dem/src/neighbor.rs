@@ -162,7 +162,7 @@ impl NeighborList {
         // max is exact in any order, so both branches agree.
         let max_d2 = if parallel {
             pos.par_iter()
-                .with_min_len(4096)
+                .with_min_len(1024)
                 .zip(self.ref_pos.par_iter())
                 .map(d2)
                 .reduce(|| 0.0, f64::max)
