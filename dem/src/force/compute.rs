@@ -383,7 +383,7 @@ impl ForceBuffers {
         }
         let _s = tracing::trace_span!("pair_constants").entered();
         let (radius, mass) = (&parts.radius, &parts.mass);
-        self.consts.fill(list.len(), |k| {
+        self.consts.fill(coef, list.len(), |k| {
             let (i, j) = (list.i[k] as usize, list.j[k] as usize);
             PairConst::new(coef, radius[i], radius[j], mass[i], mass[j])
         });
