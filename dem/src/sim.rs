@@ -430,6 +430,7 @@ impl Simulation {
                 &self.rigid.is_rigid,
                 self.damping_coef,
                 self.dt,
+                self.config.track_energy,
                 parallel,
             )
         };
