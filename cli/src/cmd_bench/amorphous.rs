@@ -157,27 +157,27 @@ pub(super) fn prepare(args: &BenchArgs) -> Result<Prepared> {
     let range = LammpsRange(&model);
     let d_min = 2.0 * p.radius.iter().cloned().fold(f64::INFINITY, f64::min);
     let d_max = 2.0 * p.radius.iter().cloned().fold(0.0, f64::max);
+    let counts = pair_counts(&p, &sample.sim_box, &model)?;
     let lammps = System {
         radius: p.radius.iter().map(|&r| range.radius(r)).collect(),
         density: model.material.density,
         k_n: LAMMPS_STIFFNESS * pp.k_n,
         k_t: LAMMPS_STIFFNESS * pp.k_t,
-        skin: RunConfig::default().skin_fraction * d_min,
+        skin: counts.skin,
     };
-    let counts = pair_counts(&p, &sample.sim_box, &model)?;
     let title = format!(
         "cgdem bench: relaxed amorphous silica (paper 000 Table 5, d0 = {:.2} nm, d = {:.2}-{:.2} d0, s = 1/2), \
          {} particles, cohesive force with tangential history, moving at {SLIDING} m/s\n\
          pairs in range at the start: cgdem {} (r_i + r_j + delta_f), LAMMPS {} (overlaps of R = r + delta_f(r, r) / 2); \
-         cgdem's neighbour list {} (skin {:.4} nm = 0.05 d_min)",
+         both neighbour lists with cgdem's skin, {:.4} nm; cgdem's has {} pairs",
         d0,
         d_min / d0,
         d_max / d0,
         p.len(),
         counts.cgdem,
         counts.lammps,
-        counts.list,
         lammps.skin,
+        counts.list,
     );
     Ok(Prepared {
         title,
@@ -194,11 +194,12 @@ fn default_cache() -> PathBuf {
     md_bridge::venv::repo_root().join("runs/bench-cache")
 }
 
-/// Pairs of the sample in range on each side, and cgdem's list size.
+/// Pairs of the sample in range on each side, cgdem's list size and skin.
 struct PairCounts {
     cgdem: usize,
     lammps: usize,
     list: usize,
+    skin: f64,
 }
 
 fn pair_counts(p: &dem::Particles, bx: &dem::SimBox, model: &PairModel) -> Result<PairCounts> {
@@ -232,5 +233,6 @@ fn pair_counts(p: &dem::Particles, bx: &dem::SimBox, model: &PairModel) -> Resul
         cgdem,
         lammps: exact.len(),
         list: list.len(),
+        skin: list.skin,
     })
 }

@@ -75,6 +75,10 @@ pub struct BenchArgs {
     /// are printed at the end (single runs vary by ~10 % on a shared machine).
     #[arg(long, default_value_t = 1)]
     repeats: usize,
+    /// Write LAMMPS's data file, input and logs into this directory and keep them (by default they
+    /// go to a temporary directory, removed at the end).
+    #[arg(long)]
+    lammps_dir: Option<PathBuf>,
     /// Amorphous: time this saved sample (`cgdem sample`) instead of the recipe's cached one.
     #[arg(long)]
     sample: Option<PathBuf>,
@@ -239,7 +243,14 @@ pub fn run(mut args: BenchArgs) -> Result<()> {
         Workload::Amorphous => amorphous::prepare(&args)?,
     };
     println!("{}", prep.title);
-    let dir = std::env::temp_dir().join(format!("cgdem-bench-{}", std::process::id()));
+    let dir = args.lammps_dir.clone().unwrap_or_else(|| {
+        std::env::temp_dir().join(format!("cgdem-bench-{}", std::process::id()))
+    });
+    let clean = |dir: &Path| {
+        if args.lammps_dir.is_none() {
+            std::fs::remove_dir_all(dir).ok();
+        }
+    };
     let mut rows = Vec::new();
     let mut rounds = Vec::new();
     // Written by the first round (it needs cgdem's time step), then reused: every round runs LAMMPS
@@ -259,11 +270,11 @@ pub fn run(mut args: BenchArgs) -> Result<()> {
             &mut rows,
         );
         if r.is_err() {
-            std::fs::remove_dir_all(&dir).ok();
+            clean(&dir);
         }
         rounds.push(r?);
     }
-    std::fs::remove_dir_all(&dir).ok();
+    clean(&dir);
     if args.repeats > 1 {
         summarise(&rounds, &args);
     }
