@@ -232,36 +232,47 @@ impl NeighborList {
         let rc = range.max_cutoff(r_max) + skin;
         let grid = CellGrid::new(pos, bx, rc, cell_edge(radius, range, skin))?;
         let (cell_start, cell_particles) = grid.bin(pos);
+        // Positions and radii in cell order, so that a cell's candidates are read from one run of
+        // memory.
+        let cell_xr: Vec<[f64; 4]> = cell_particles
+            .iter()
+            .map(|&j| {
+                let (x, r) = (pos[j as usize], radius[j as usize]);
+                [x.x, x.y, x.z, r]
+            })
+            .collect();
 
         // Each pair is found from its larger particle (ties: the higher index), which searches the
         // cells within its own reach only: a small particle never scans for the largest partner's range.
         const CHUNK: usize = 512;
-        let larger =
-            |j: usize, i: usize| radius[j] < radius[i] || (radius[j] == radius[i] && j < i);
         let search = |c: usize| {
             let mut out: Vec<(u32, u32, Image)> = Vec::new();
             for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
-                let ri = radius[i];
+                let (xi, ri) = (pos[i], radius[i]);
                 // Every partner's cutoff is below this reach; the cheap bound ri + rj + beyond
                 // screens candidates before the exact (possibly powf) cutoff is evaluated.
                 let reach = range.max_cutoff(ri) + skin;
                 let beyond = range.beyond_contact(ri) + skin;
-                grid.for_each_cell_within(grid.cell_of(&pos[i]), reach, |cell, img| {
-                    let shift = bx.shift(img);
+                grid.for_each_cell_within(grid.cell_of(&xi), reach, |cell, img| {
+                    let o = bx.shift(img) - xi;
                     let (s, e) = (cell_start[cell] as usize, cell_start[cell + 1] as usize);
-                    for &j in &cell_particles[s..e] {
+                    for (&j, &[x, y, z, rj]) in cell_particles[s..e].iter().zip(&cell_xr[s..e]) {
                         let j = j as usize;
-                        if !(larger(j, i) || (j == i && positive_image(img))) {
+                        let larger = rj < ri || (rj == ri && j < i);
+                        if !(larger || (j == i && positive_image(img))) {
                             continue;
                         }
-                        let d2 = (pos[j] + shift - pos[i]).norm_squared();
+                        let (dx, dy, dz) = (x + o.x, y + o.y, z + o.z);
+                        let d2 = dx * dx + dy * dy + dz * dz;
                         // (Rounded up by a part in 1e12, so that rounding never lets the screen
                         // drop a pair the exact cutoff keeps.)
-                        let rough = (ri + radius[j] + beyond) * (1.0 + 1e-12);
+                        let rough = (ri + rj + beyond) * (1.0 + 1e-12);
                         if d2 >= rough * rough {
                             continue;
                         }
-                        let cut = range.cutoff(ri, radius[j]) + skin;
+                        // The exact test on the separation as the force loop computes it.
+                        let d2 = (pos[j] + bx.shift(img) - xi).norm_squared();
+                        let cut = range.cutoff(ri, rj) + skin;
                         if d2 < cut * cut {
                             // Stored as (lower index, higher index, image of the higher seen from
                             // the lower).
@@ -516,6 +527,10 @@ impl CellGrid {
             cell / (self.n[0] * self.n[1]),
         ];
         let k: [i64; 3] = std::array::from_fn(|a| (reach / self.size[a]).ceil().max(1.0) as i64);
+        // Cells of a large stencil whose nearest point lies beyond the reach are skipped (about
+        // half of the cube for the largest particles); the 27 nearest always stay.
+        let gap = |a: usize, d: i64| (d.abs() - 1).max(0) as f64 * self.size[a];
+        let reach2 = reach * reach;
         let axis = |a: usize, d: i64| -> Option<(usize, i8)> {
             let u = c[a] as i64 + d;
             let na = self.n[a] as i64;
@@ -528,9 +543,17 @@ impl CellGrid {
         };
         for dz in -k[2]..=k[2] {
             let Some((z, iz)) = axis(2, dz) else { continue };
+            let gz = gap(2, dz).powi(2);
             for dy in -k[1]..=k[1] {
                 let Some((y, iy)) = axis(1, dy) else { continue };
+                let gyz = gz + gap(1, dy).powi(2);
+                if gyz >= reach2 {
+                    continue;
+                }
                 for dx in -k[0]..=k[0] {
+                    if gyz + gap(0, dx).powi(2) >= reach2 {
+                        continue;
+                    }
                     let Some((x, ix)) = axis(0, dx) else { continue };
                     f(x + self.n[0] * (y + self.n[1] * z), [ix, iy, iz]);
                 }
