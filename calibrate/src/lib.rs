@@ -13,7 +13,8 @@
 //! - [`patch_problem`]: unknowns ln(multiplier) on k_N, k_T, delta_e, delta_f, F_mT; residuals the
 //!   relative errors of E, nu, sigma_N, sigma_T (and gamma) from the patch tests on one fixed sample;
 //! - [`config`]: the TOML input (engine or SI units), with unreachable targets refused up front;
-//! - [`card`]: the calibrated parameter card; [`run`]: the whole calibration with its output files.
+//! - [`card`]: the calibrated parameter card; [`run`]: the whole calibration with its output files;
+//! - [`source`]: where a scenario's material comes from (a preset, SI, engine units, an MD card, a card).
 
 pub mod card;
 pub mod config;
@@ -23,6 +24,7 @@ pub mod lm;
 pub mod patch_problem;
 pub mod problem;
 pub mod run;
+pub mod source;
 
 pub use card::CalibratedCard;
 pub use config::{CalibrationConfig, CardRef, SiMaterial};
@@ -31,3 +33,4 @@ pub use executor::{Checkpoint, Executor, Record, Settings, State, Status};
 pub use patch_problem::{PatchProblem, Properties, Target, TestSettings, Unknown};
 pub use problem::{EvalFailure, Evaluation, Problem};
 pub use run::{calibrate, verify, Outcome};
+pub use source::{MaterialSource, ResolvedMaterial, Units};

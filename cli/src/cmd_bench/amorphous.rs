@@ -61,6 +61,7 @@ fn recipe(length: f64) -> SampleSpec {
         d0_over_dc: D0_OVER_DC,
         l_over_d0: length,
         w_over_d0: length,
+        h_over_d0: None,
         ds_over_d0: 0.75,
         dl_over_d0: 5.0,
         dl_over_l: None,
@@ -94,12 +95,17 @@ fn cached_sample(cache_dir: &Path, length: f64, model: &PairModel) -> Result<Sam
         at_once: 1,
         ..RunJobs::default()
     };
-    let mut results = run_jobs(&cache, std::slice::from_ref(&job), &how, |job, dir| {
-        let progress = ProgressFile::new(dir.join("relax.progress.json"));
-        let s = make_sample_resumable(&job.sample, model, &job.relax, par, Some(&progress))?;
-        dem::io::progress::remove(&progress.path)?;
-        Ok(s)
-    })?;
+    let mut results = run_jobs::<_, _, anyhow::Error, _>(
+        &cache,
+        std::slice::from_ref(&job),
+        &how,
+        |job, dir| {
+            let progress = ProgressFile::new(dir.join("relax.progress.json"));
+            let s = make_sample_resumable(&job.sample, model, &job.relax, par, Some(&progress))?;
+            dem::io::progress::remove(&progress.path)?;
+            Ok(s)
+        },
+    )?;
     match results.pop().flatten() {
         Some(s) => Ok(s),
         None => bail!("the sample job left no result in {}", where_.display()),

@@ -4,34 +4,17 @@
 //! LAMMPS gets the same spheres (their overlaps are its contacts), k_N and k_T of the pair.
 
 use anyhow::Result;
-use dem::sample::hcp::hcp_lattice;
-use dem::state::{sphere_inertia, sphere_mass};
-use dem::{Material, PairModel, RunConfig};
-use rand::{Rng, SeedableRng};
+use dem::RunConfig;
+use validation::bench::{model, packing, SPACING};
 
 use super::lammps::System;
 use super::Prepared;
 
-/// Sphere diameter (lattice spacing): 0.6 d_c for Table 4, so delta_f = d/3 reaches neither the
-/// second shell nor beyond.
-const SPACING: f64 = 90.0;
-/// Overlap of touching neighbours, as a fraction of the spacing.
-const SQUEEZE: f64 = 1e-3;
-
 pub(super) fn prepare(cells: usize) -> Result<Prepared> {
-    let nz = (cells * 4 / 5).max(2) & !1;
-    let (mut p, bx) = hcp_lattice(cells, cells & !1, nz, SPACING, 1.0, [true; 3])?;
-    let r = 0.5 * SPACING * (1.0 + SQUEEZE);
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(2024);
-    for i in 0..p.len() {
-        p.radius[i] = r;
-        p.mass[i] = sphere_mass(1.0, r);
-        p.inertia[i] = sphere_inertia(p.mass[i], r);
-        for a in 0..3 {
-            p.vel[i][a] = 0.01 * (2.0 * rng.gen::<f64>() - 1.0);
-        }
-    }
-    let model = PairModel::cohesive(Material::table4(0.15));
+    // The same packing as the report's performance section (validation::bench).
+    let (p, bx) = packing(cells)?;
+    let model = model();
+    let r = p.radius[0];
     let pp = model.params(r, r, p.mass[0], p.mass[0]);
     let lammps = System {
         radius: p.radius.clone(),
