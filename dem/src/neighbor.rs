@@ -326,9 +326,7 @@ impl NeighborList {
             row_chunks.into_iter().enumerate().for_each(sort_rows);
         }
         let new_i: Vec<u32> = (0..n)
-            .flat_map(|i| {
-                std::iter::repeat(i as u32).take((row_start[i + 1] - row_start[i]) as usize)
-            })
+            .flat_map(|i| std::iter::repeat_n(i as u32, (row_start[i + 1] - row_start[i]) as usize))
             .collect();
         let new_j: Vec<u32> = slots.iter().map(|s| s.0).collect();
         let new_img: Vec<Image> = slots.iter().map(|s| s.1).collect();

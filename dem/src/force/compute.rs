@@ -41,7 +41,7 @@ const SMALL_BLOCKS: usize = 4;
 ///   parked (a per-pair store and a gather instead of a direct sum); with a quarter of the system per
 ///   block that stays rare in space order: in the bench's amorphous sample 90 % of the pairs reach
 ///   fewer than 800 particles ahead (blocks of ~1 600), in a 1 152-sphere HCP packing all reach at
-///   most 157 (blocks of 288). Eight blocks were measured too (docs/performance.md).
+///   most 157 (blocks of 288).
 /// - Systems of fewer than `8 SMALL_BLOCKS` particles are one block.
 fn block_bounds(n: usize, row_start: &[u32], out: &mut Vec<usize>) {
     out.clear();
