@@ -158,7 +158,7 @@ fn parallelism(threads: usize) -> Parallelism {
 fn time_cgdem(threads: usize, steps: u64, prep: &Prepared) -> Result<Timing> {
     let mut sim = Simulation::new(
         prep.particles.clone(),
-        prep.sim_box.clone(),
+        prep.sim_box,
         prep.model.clone(),
         vec![],
         RunConfig::default(),
