@@ -212,7 +212,7 @@ fn pair_counts(p: &dem::Particles, bx: &dem::SimBox, model: &PairModel) -> Resul
     let sim = {
         let mut s = Simulation::new(
             p.clone(),
-            bx,
+            *bx,
             model.clone(),
             vec![],
             RunConfig::default(),
