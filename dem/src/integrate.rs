@@ -12,14 +12,17 @@
 use crate::state::Particles;
 use crate::Vec3;
 
-const CHUNK: usize = 1024;
+/// Particles per leaf of the integrator's tree. The leaves fix the order of the kinetic-energy and
+/// damping-power sums, so they depend on the particle count alone; 256 lets a 1 000-particle system
+/// split over two threads (with 1 024 it was one leaf and ran on one core).
+const CHUNK: usize = 256;
 
 /// What one integration step reports.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct StepSums {
-    /// Kinetic energy at v_n.
+    /// Kinetic energy at v_n (0 unless asked for).
     pub kinetic: f64,
-    /// Power dissipated by global damping.
+    /// Power dissipated by global damping (0 unless asked for).
     pub damping_power: f64,
     /// Every position and velocity (rigid ones included) is finite afterwards. A cheap screen, folded
     /// into the pass that touches them anyway; `false` can also mean an overflowing sum, so the caller
@@ -38,7 +41,10 @@ impl StepSums {
     }
 }
 
-/// Advances free particles one step.
+/// Advances free particles one step; with `energy`, also sums the kinetic energy and the damping
+/// power (two chains of dependent additions, a few per cent of a step, skipped when nobody reads
+/// them).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn advance_free(
     parts: &mut Particles,
     force: &[Vec3],
@@ -46,6 +52,7 @@ pub(crate) fn advance_free(
     is_rigid: &[bool],
     damping: f64,
     dt: f64,
+    energy: bool,
     parallel: bool,
 ) -> StepSums {
     let Particles {
@@ -62,14 +69,18 @@ pub(crate) fn advance_free(
         for k in 0..x.len() {
             let i = start + k;
             let (m, inr) = (mass[i], inertia[i]);
-            ke += 0.5 * (m * v[k].norm_squared() + inr * w[k].norm_squared());
+            if energy {
+                ke += 0.5 * (m * v[k].norm_squared() + inr * w[k].norm_squared());
+            }
             if is_rigid[i] {
                 // Moved by the walls already: only screened.
                 screen += 0.0 * (x[k].sum() + v[k].sum() + w[k].sum());
                 continue;
             }
             let cw = damping * inr / m;
-            pd += damping * v[k].norm_squared() + cw * w[k].norm_squared();
+            if energy {
+                pd += damping * v[k].norm_squared() + cw * w[k].norm_squared();
+            }
             let f = force[i] - damping * v[k];
             let t = torque[i] - cw * w[k];
             v[k] += f * (dt / m);
@@ -133,7 +144,16 @@ mod tests {
         let torque = vec![Vec3::new(0.0, 0.0, 5.0)];
         let dt = 1e-3;
         for _ in 0..1000 {
-            advance_free(&mut p, &[Vec3::zeros()], &torque, &[false], 0.0, dt, false);
+            advance_free(
+                &mut p,
+                &[Vec3::zeros()],
+                &torque,
+                &[false],
+                0.0,
+                dt,
+                true,
+                false,
+            );
         }
         let expect = 5.0 / p.inertia[0] * 1.0;
         assert!(
@@ -149,7 +169,16 @@ mod tests {
         p.push_sphere(Vec3::zeros(), 1.0, 1.0);
         let m = p.mass[0];
         let f = vec![Vec3::new(m, 0.0, 0.0)];
-        advance_free(&mut p, &f, &[Vec3::zeros()], &[false], 0.0, 0.5, false);
+        advance_free(
+            &mut p,
+            &f,
+            &[Vec3::zeros()],
+            &[false],
+            0.0,
+            0.5,
+            true,
+            false,
+        );
         // v1 = 0.5, x1 = v1 dt = 0.25 (the new velocity moves the particle).
         assert!((p.vel[0].x - 0.5).abs() < 1e-15 && (p.pos[0].x - 0.25).abs() < 1e-15);
     }

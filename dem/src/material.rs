@@ -375,18 +375,20 @@ impl PairModel {
 /// depend on the two particles.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct PairCoefficients {
-    kn_coef: f64,
-    kt_coef: f64,
-    fmt_coef: f64,
-    strain_e: f64,
+    // The pair kernel derives k_N, k_T, delta_e, F_mT and c_T from a few stored per-pair values with
+    // these (force::pair_consts::Shared), by the same expressions as `params_in_range`.
+    pub(crate) kn_coef: f64,
+    pub(crate) kt_coef: f64,
+    pub(crate) fmt_coef: f64,
+    pub(crate) strain_e: f64,
     delta_f_small: f64,
     d_c: f64,
     s: f64,
-    scale_de: f64,
+    pub(crate) scale_de: f64,
     scale_df: f64,
     damp: f64,
-    ct_over_cn: f64,
-    cohesion: bool,
+    pub(crate) ct_over_cn: f64,
+    pub(crate) cohesion: bool,
     pub tangential: bool,
 }
 

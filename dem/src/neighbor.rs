@@ -60,6 +60,12 @@ pub trait PairRange: Sync {
     fn cutoff(&self, ri: f64, rj: f64) -> f64;
     /// Largest cutoff for any pair of radii up to `r_max`.
     fn max_cutoff(&self, r_max: f64) -> f64;
+    /// An upper bound of `cutoff(r_i, r_j) - r_i - r_j` over partners with `r_j <= r_i <= r` (how far
+    /// beyond contact a pair reaches); it screens candidates before [`PairRange::cutoff`] is called.
+    /// The default, `max_cutoff(r)`, is always one; a model that knows better makes builds cheaper.
+    fn beyond_contact(&self, r: f64) -> f64 {
+        self.max_cutoff(r)
+    }
 }
 
 impl NeighborList {
@@ -156,7 +162,7 @@ impl NeighborList {
         // max is exact in any order, so both branches agree.
         let max_d2 = if parallel {
             pos.par_iter()
-                .with_min_len(4096)
+                .with_min_len(1024)
                 .zip(self.ref_pos.par_iter())
                 .map(d2)
                 .reduce(|| 0.0, f64::max)
@@ -222,64 +228,108 @@ impl NeighborList {
         }
 
         let r_max = radius.iter().cloned().fold(0.0, f64::max);
-        let rc = range.max_cutoff(r_max) + self.skin;
-        let grid = CellGrid::new(pos, bx, rc)?;
-        let (cell_start, cell_particles) = grid.bin(pos);
-
-        // Each particle's row, built in parallel and concatenated in particle order.
-        const CHUNK: usize = 512;
         let skin = self.skin;
-        let row_chunk = |c: usize| {
-            let mut out = Vec::new();
-            let mut row: Vec<(u32, Image)> = Vec::new();
+        let rc = range.max_cutoff(r_max) + skin;
+        let grid = CellGrid::new(pos, bx, rc, cell_edge(radius, range, skin))?;
+        let (cell_start, cell_particles) = grid.bin(pos);
+        // Positions and radii in cell order, so that a cell's candidates are read from one run of
+        // memory.
+        let cell_xr: Vec<[f64; 4]> = cell_particles
+            .iter()
+            .map(|&j| {
+                let (x, r) = (pos[j as usize], radius[j as usize]);
+                [x.x, x.y, x.z, r]
+            })
+            .collect();
+
+        // Each pair is found from its larger particle (ties: the higher index), which searches the
+        // cells within its own reach only: a small particle never scans for the largest partner's range.
+        const CHUNK: usize = 512;
+        let search = |c: usize| {
+            let mut out: Vec<(u32, u32, Image)> = Vec::new();
             for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
-                row.clear();
-                let ci = grid.cell_of(&pos[i]);
-                grid.for_each_neighbor_cell(ci, |cell, img| {
-                    let shift = bx.shift(img);
+                let (xi, ri) = (pos[i], radius[i]);
+                // Every partner's cutoff is below this reach; the cheap bound ri + rj + beyond
+                // screens candidates before the exact (possibly powf) cutoff is evaluated.
+                let reach = range.max_cutoff(ri) + skin;
+                let beyond = range.beyond_contact(ri) + skin;
+                grid.for_each_cell_within(grid.cell_of(&xi), reach, |cell, img| {
+                    let o = bx.shift(img) - xi;
                     let (s, e) = (cell_start[cell] as usize, cell_start[cell + 1] as usize);
-                    for &j in &cell_particles[s..e] {
+                    for (&j, &[x, y, z, rj]) in cell_particles[s..e].iter().zip(&cell_xr[s..e]) {
                         let j = j as usize;
-                        if j < i || (j == i && !positive_image(img)) {
+                        let larger = rj < ri || (rj == ri && j < i);
+                        if !(larger || (j == i && positive_image(img))) {
                             continue;
                         }
-                        let d = pos[j] + shift - pos[i];
-                        let cut = range.cutoff(radius[i], radius[j]) + skin;
-                        if d.norm_squared() < cut * cut {
-                            row.push((j as u32, img));
+                        let (dx, dy, dz) = (x + o.x, y + o.y, z + o.z);
+                        let d2 = dx * dx + dy * dy + dz * dz;
+                        // (Rounded up by a part in 1e12, so that rounding never lets the screen
+                        // drop a pair the exact cutoff keeps.)
+                        let rough = (ri + rj + beyond) * (1.0 + 1e-12);
+                        if d2 >= rough * rough {
+                            continue;
+                        }
+                        // The exact test on the separation as the force loop computes it.
+                        let d2 = (pos[j] + bx.shift(img) - xi).norm_squared();
+                        let cut = range.cutoff(ri, rj) + skin;
+                        if d2 < cut * cut {
+                            // Stored as (lower index, higher index, image of the higher seen from
+                            // the lower).
+                            out.push(if j < i {
+                                (j as u32, i as u32, img.map(|s| -s))
+                            } else {
+                                (i as u32, j as u32, img)
+                            });
                         }
                     }
                 });
-                row.sort_unstable_by_key(|&(j, img)| (j, img));
-                out.extend(row.iter().map(|&(j, img)| (i as u32, j, img)));
             }
             out
         };
         let chunks = n.div_ceil(CHUNK);
-        let rows: Vec<Vec<(u32, u32, Image)>> = if parallel {
-            (0..chunks).into_par_iter().map(row_chunk).collect()
+        let found: Vec<Vec<(u32, u32, Image)>> = if parallel {
+            (0..chunks).into_par_iter().map(search).collect()
         } else {
-            (0..chunks).map(row_chunk).collect()
+            (0..chunks).map(search).collect()
         };
-
-        let total: usize = rows.iter().map(Vec::len).sum();
-        let mut new_i = Vec::with_capacity(total);
-        let mut new_j = Vec::with_capacity(total);
-        let mut new_img = Vec::with_capacity(total);
-        for row in &rows {
-            for &(i, j, img) in row {
-                new_i.push(i);
-                new_j.push(j);
-                new_img.push(img);
-            }
-        }
+        // Rows by counting sort on the first particle, each sorted by (second particle, image): the
+        // pairs are distinct, so the order is the same however the search was split.
+        let total: usize = found.iter().map(Vec::len).sum();
         let mut row_start = vec![0u32; n + 1];
-        for &i in &new_i {
+        for &(i, _, _) in found.iter().flatten() {
             row_start[i as usize + 1] += 1;
         }
         for k in 0..n {
             row_start[k + 1] += row_start[k];
         }
+        let mut fill = row_start.clone();
+        let mut slots = vec![(0u32, [0i8; 3]); total];
+        for &(i, j, img) in found.iter().flatten() {
+            slots[fill[i as usize] as usize] = (j, img);
+            fill[i as usize] += 1;
+        }
+        let sort_rows = |(c, rows): (usize, &mut [(u32, Image)])| {
+            let base = row_start[c * CHUNK] as usize;
+            for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                let (s, e) = (
+                    row_start[i] as usize - base,
+                    row_start[i + 1] as usize - base,
+                );
+                rows[s..e].sort_unstable();
+            }
+        };
+        let row_chunks = split_rows(&mut slots, &row_start, CHUNK);
+        if parallel {
+            row_chunks.into_par_iter().enumerate().for_each(sort_rows);
+        } else {
+            row_chunks.into_iter().enumerate().for_each(sort_rows);
+        }
+        let new_i: Vec<u32> = (0..n)
+            .flat_map(|i| std::iter::repeat_n(i as u32, (row_start[i + 1] - row_start[i]) as usize))
+            .collect();
+        let new_j: Vec<u32> = slots.iter().map(|s| s.0).collect();
+        let new_img: Vec<Image> = slots.iter().map(|s| s.1).collect();
         // Carry the history over: same (i, j, image) in the old row of i.
         let mut new_hist = PairHistory::zeros(total);
         if old_valid {
@@ -344,6 +394,34 @@ fn positive_image(s: Image) -> bool {
     s > [0, 0, 0]
 }
 
+/// The cell edge of a build: the reach of a pair of median particles. Cells sized for the largest
+/// range (one cell across it) would hold hundreds of the small particles of a wide size distribution,
+/// all of them candidates of every neighbour; with this edge, most particles search their 27 cells
+/// and only the larger ones reach further ([`CellGrid::for_each_cell_within`]). Equal spheres get
+/// the largest range, as before.
+fn cell_edge(radius: &[f64], range: &impl PairRange, skin: f64) -> f64 {
+    if radius.is_empty() {
+        return 0.0;
+    }
+    let mut r = radius.to_vec();
+    let mid = r.len() / 2;
+    let (_, median, _) = r.select_nth_unstable_by(mid, f64::total_cmp);
+    range.max_cutoff(*median) + skin
+}
+
+/// `slots` cut at the first pair of every `chunk`-th row (for sorting the rows in parallel).
+fn split_rows<'a, T>(mut slots: &'a mut [T], row_start: &[u32], chunk: usize) -> Vec<&'a mut [T]> {
+    let n = row_start.len() - 1;
+    let mut parts = Vec::with_capacity(n.div_ceil(chunk));
+    for c in 0..n.div_ceil(chunk) {
+        let len = (row_start[((c + 1) * chunk).min(n)] - row_start[c * chunk]) as usize;
+        let (head, tail) = std::mem::take(&mut slots).split_at_mut(len);
+        parts.push(head);
+        slots = tail;
+    }
+    parts
+}
+
 /// Uniform cell grid over the box (periodic axes) or over the particles' extent (other axes).
 struct CellGrid {
     lo: Vec3,
@@ -353,7 +431,9 @@ struct CellGrid {
 }
 
 impl CellGrid {
-    fn new(pos: &[Vec3], bx: &SimBox, rc: f64) -> Result<Self> {
+    /// A grid of cells of about `edge` (at least one per axis, at most about 8 per particle), over a
+    /// box whose periodic axes must be longer than the largest reach `rc`.
+    fn new(pos: &[Vec3], bx: &SimBox, rc: f64, edge: f64) -> Result<Self> {
         let mut lo = bx.lo;
         let mut ext = bx.lengths();
         let mut n = [1usize; 3];
@@ -381,7 +461,7 @@ impl CellGrid {
                     ext[a] = (mx - mn).max(rc) * (1.0 + 1e-9);
                 }
             }
-            n[a] = ((ext[a] / rc).floor() as usize).clamp(1, cap);
+            n[a] = ((ext[a] / edge.max(1e-300 * ext[a])).floor() as usize).clamp(1, cap);
         }
         let size = Vec3::new(
             ext[0] / n[0] as f64,
@@ -434,36 +514,46 @@ impl CellGrid {
         (start, parts)
     }
 
-    /// Calls `f(cell, image)` for the 27 cells around `cell` in the unwrapped tiling; every (cell, image)
-    /// combination is distinct even when an axis has one or two cells.
-    fn for_each_neighbor_cell(&self, cell: usize, mut f: impl FnMut(usize, Image)) {
+    /// Calls `f(cell, image)` for every cell within `reach` of `cell` (27 cells when the reach is one
+    /// cell edge) in the unwrapped tiling, with the image of each periodic copy; every (cell, image)
+    /// combination is distinct even when an axis has one or two cells. Images beyond one box length
+    /// are left out: positions lie in the box and every range is shorter than it.
+    fn for_each_cell_within(&self, cell: usize, reach: f64, mut f: impl FnMut(usize, Image)) {
         let c = [
             cell % self.n[0],
             (cell / self.n[0]) % self.n[1],
             cell / (self.n[0] * self.n[1]),
         ];
-        for dz in -1i64..=1 {
-            for dy in -1i64..=1 {
-                for dx in -1i64..=1 {
-                    let d = [dx, dy, dz];
-                    let mut idx = [0usize; 3];
-                    let mut img = [0i8; 3];
-                    let mut ok = true;
-                    for a in 0..3 {
-                        let k = c[a] as i64 + d[a];
-                        let na = self.n[a] as i64;
-                        if self.periodic[a] {
-                            img[a] = k.div_euclid(na) as i8;
-                            idx[a] = k.rem_euclid(na) as usize;
-                        } else if k < 0 || k >= na {
-                            ok = false;
-                        } else {
-                            idx[a] = k as usize;
-                        }
+        let k: [i64; 3] = std::array::from_fn(|a| (reach / self.size[a]).ceil().max(1.0) as i64);
+        // Cells of a large stencil whose nearest point lies beyond the reach are skipped (about
+        // half of the cube for the largest particles); the 27 nearest always stay.
+        let gap = |a: usize, d: i64| (d.abs() - 1).max(0) as f64 * self.size[a];
+        let reach2 = reach * reach;
+        let axis = |a: usize, d: i64| -> Option<(usize, i8)> {
+            let u = c[a] as i64 + d;
+            let na = self.n[a] as i64;
+            if self.periodic[a] {
+                let img = u.div_euclid(na);
+                (img.abs() <= 1).then(|| (u.rem_euclid(na) as usize, img as i8))
+            } else {
+                (0..na).contains(&u).then_some((u as usize, 0))
+            }
+        };
+        for dz in -k[2]..=k[2] {
+            let Some((z, iz)) = axis(2, dz) else { continue };
+            let gz = gap(2, dz).powi(2);
+            for dy in -k[1]..=k[1] {
+                let Some((y, iy)) = axis(1, dy) else { continue };
+                let gyz = gz + gap(1, dy).powi(2);
+                if gyz >= reach2 {
+                    continue;
+                }
+                for dx in -k[0]..=k[0] {
+                    if gyz + gap(0, dx).powi(2) >= reach2 {
+                        continue;
                     }
-                    if ok {
-                        f(idx[0] + self.n[0] * (idx[1] + self.n[1] * idx[2]), img);
-                    }
+                    let Some((x, ix)) = axis(0, dx) else { continue };
+                    f(x + self.n[0] * (y + self.n[1] * z), [ix, iy, iz]);
                 }
             }
         }

@@ -25,28 +25,7 @@ fn brute_force(
     bx: &SimBox,
     skin: f64,
 ) -> BTreeSet<(u32, u32, Image)> {
-    let mut set = BTreeSet::new();
-    let reach = |a: usize| if bx.periodic[a] { -2i8..=2 } else { 0i8..=0 };
-    for i in 0..pos.len() {
-        for j in i..pos.len() {
-            for sx in reach(0) {
-                for sy in reach(1) {
-                    for sz in reach(2) {
-                        let s = [sx, sy, sz];
-                        if i == j && s <= [0, 0, 0] {
-                            continue;
-                        }
-                        let d = pos[j] + bx.shift(s) - pos[i];
-                        let cut = Range.cutoff(radius[i], radius[j]) + skin;
-                        if d.norm() < cut {
-                            set.insert((i as u32, j as u32, s));
-                        }
-                    }
-                }
-            }
-        }
-    }
-    set
+    brute_force_with(&Range, pos, radius, bx, skin)
 }
 
 fn listed(list: &NeighborList) -> BTreeSet<(u32, u32, Image)> {
@@ -211,4 +190,90 @@ fn boxes_thinner_than_one_range_are_refused() {
             .contains("shorter than one interaction range"),
         "{err}"
     );
+}
+
+/// A range that grows like the s = 1/2 scaling of eq (10), delta_f ~ sqrt(r_i + r_j), and says how far
+/// beyond contact it reaches (the screen the builds use before the exact cutoff).
+struct SqrtRange;
+impl PairRange for SqrtRange {
+    fn cutoff(&self, ri: f64, rj: f64) -> f64 {
+        ri + rj + 0.3 * (ri + rj).sqrt()
+    }
+    fn max_cutoff(&self, r_max: f64) -> f64 {
+        2.0 * r_max + 0.3 * (2.0 * r_max).sqrt()
+    }
+    fn beyond_contact(&self, r: f64) -> f64 {
+        0.3 * (2.0 * r).sqrt()
+    }
+}
+
+#[test]
+fn list_matches_brute_force_for_wide_size_distributions() {
+    // Radii over a factor 6.7 (paper 000's d_s = 0.75 d0 to d_l = 5 d0): the largest particles search
+    // several cells around them, the small ones only their 27. Both ranges, exact either way.
+    let mut rng = ChaCha8Rng::seed_from_u64(21);
+    let cases = [
+        (Vec3::new(14.0, 14.0, 14.0), [true, true, true]),
+        (Vec3::new(16.0, 12.0, 6.0), [true, true, false]),
+        (Vec3::new(12.0, 12.0, 12.0), [false, false, false]),
+    ];
+    for (case, (lengths, periodic)) in cases.iter().enumerate() {
+        for trial in 0..3 {
+            let n = rng.gen_range(100..400);
+            let (mut pos, _, bx) = random_system(&mut rng, n, *lengths, *periodic);
+            // Mostly small radii and a few large ones, as a log-normal of mode d0 draws them.
+            let radius: Vec<f64> = (0..n)
+                .map(|_| 0.375 * (1.0 + 5.7 * rng.gen::<f64>().powi(4)))
+                .collect();
+            let skin = 0.05;
+            let mut a = NeighborList::new(skin).unwrap();
+            a.build(&mut pos, &radius, &bx, &Range).unwrap();
+            assert_eq!(
+                listed(&a),
+                brute_force(&pos, &radius, &bx, skin),
+                "case {case} trial {trial}: n = {n}"
+            );
+            let mut b = NeighborList::new(skin).unwrap();
+            b.build(&mut pos, &radius, &bx, &SqrtRange).unwrap();
+            let want = brute_force_with(&SqrtRange, &pos, &radius, &bx, skin);
+            assert!(want.len() > n, "case {case}: too few pairs to test");
+            assert_eq!(listed(&b), want, "case {case} trial {trial}: n = {n}");
+            for p in 1..b.len() {
+                assert!(
+                    (b.i[p - 1], b.j[p - 1], b.image[p - 1]) < (b.i[p], b.j[p], b.image[p]),
+                    "pairs in (i, j, image) order"
+                );
+            }
+        }
+    }
+}
+
+fn brute_force_with(
+    range: &impl PairRange,
+    pos: &[Vec3],
+    radius: &[f64],
+    bx: &SimBox,
+    skin: f64,
+) -> BTreeSet<(u32, u32, Image)> {
+    let mut set = BTreeSet::new();
+    let reach = |a: usize| if bx.periodic[a] { -2i8..=2 } else { 0i8..=0 };
+    for i in 0..pos.len() {
+        for j in i..pos.len() {
+            for sx in reach(0) {
+                for sy in reach(1) {
+                    for sz in reach(2) {
+                        let s = [sx, sy, sz];
+                        if i == j && s <= [0, 0, 0] {
+                            continue;
+                        }
+                        let d = pos[j] + bx.shift(s) - pos[i];
+                        if d.norm() < range.cutoff(radius[i], radius[j]) + skin {
+                            set.insert((i as u32, j as u32, s));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    set
 }

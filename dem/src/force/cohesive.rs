@@ -329,7 +329,9 @@ mod tests {
     fn head_on(gaps: &[f64]) -> (Batch, PairConstArrays) {
         let coef = PairCoefficients::new(&PairModel::cohesive(Material::table4(0.15)));
         let mut consts = PairConstArrays::default();
-        consts.fill(gaps.len(), |_| PairConst::new(&coef, 45.0, 45.0, 1.0, 1.0));
+        consts.fill(&coef, gaps.len(), |_| {
+            PairConst::new(&coef, 45.0, 45.0, 1.0, 1.0)
+        });
         let mut b = Batch::default();
         for (l, g) in gaps.iter().enumerate() {
             b.d[0][l] = 90.0 + g;

@@ -1,4 +1,5 @@
-//! The force phase. Particles are cut into fixed blocks; each block walks its pairs in order and
+//! The force phase. Particles are cut into blocks ([`block_bounds`]: fixed blocks of 2 048 in large
+//! systems, four blocks of equal pair counts in small ones); each block walks its pairs in order and
 //! evaluates them in batches of `LANES` (see [`super::cohesive::Batch`]). Blocks run in two colours
 //! (even, then odd): while its colour runs, block `b` owns the sums of blocks `b` and `b + 1`, so a
 //! pair whose second particle lies in either adds straight into both particles' sums; only pairs
@@ -18,10 +19,49 @@ use crate::neighbor::NeighborList;
 use crate::state::Particles;
 use crate::Vec3;
 
-/// Particles per block: a block's pairs mostly stay inside it (rows of neighbours in memory), and a
-/// 50 000-particle system still splits into ~25 tasks for the cores. Fixed, so results never depend on
-/// the thread count.
+/// Particles per block in systems of at least `4 BLOCK` particles: a block's pairs mostly stay inside
+/// it or reach the next one (rows of neighbours in memory), and a 50 000-particle system still splits
+/// into ~25 tasks for the cores.
 const BLOCK: usize = 2048;
+
+/// Blocks of a smaller system: cut at equal pair counts. Four blocks make two units per colour, so
+/// two threads get equal halves of each colour; with 2 048-particle blocks a system below ~6 000
+/// particles had one or two units per colour and ran on one core (issue 21). More blocks would let
+/// more threads in but park more pairs (see [`block_bounds`]).
+const SMALL_BLOCKS: usize = 4;
+
+/// Where the blocks start, from the particle count and the list's rows alone: the same blocks, hence
+/// the same order of every sum, for any thread count (which must not enter here: with blocks cut per
+/// thread count, 1 and 2 threads would add the same terms in different orders and drift apart).
+///
+/// - From `4 BLOCK` particles on, fixed blocks of `BLOCK` (the decomposition of large systems,
+///   unchanged).
+/// - Below, `SMALL_BLOCKS` blocks of equal pair counts (a block's work is its pairs; in a wide size
+///   distribution the large particles' rows are long). A pair reaching two blocks or more ahead is
+///   parked (a per-pair store and a gather instead of a direct sum); with a quarter of the system per
+///   block that stays rare in space order: in the bench's amorphous sample 90 % of the pairs reach
+///   fewer than 800 particles ahead (blocks of ~1 600), in a 1 152-sphere HCP packing all reach at
+///   most 157 (blocks of 288).
+/// - Systems of fewer than `8 SMALL_BLOCKS` particles are one block.
+fn block_bounds(n: usize, row_start: &[u32], out: &mut Vec<usize>) {
+    out.clear();
+    if n >= 4 * BLOCK {
+        out.extend((0..n.div_ceil(BLOCK)).map(|b| b * BLOCK));
+    } else if n >= 8 * SMALL_BLOCKS {
+        let pairs = row_start[n] as u64;
+        // Block b starts at the first particle whose row starts at or after b / SMALL_BLOCKS of the
+        // pairs (a partition point of the increasing row starts), so blocks never overlap.
+        out.push(0);
+        for b in 1..SMALL_BLOCKS {
+            let target = pairs * b as u64 / SMALL_BLOCKS as u64;
+            let k = row_start[..n].partition_point(|&s| (s as u64) < target);
+            out.push(k.max(*out.last().unwrap_or(&0)));
+        }
+    } else {
+        out.push(0);
+    }
+    out.push(n);
+}
 
 /// Scratch reused from step to step (resized only when the neighbour list changes size).
 #[derive(Debug, Clone, Default)]
@@ -42,7 +82,9 @@ pub(crate) struct ForceBuffers {
     /// two blocks or more before k's, in pair order.
     parked_start: Vec<u32>,
     parked_pair: Vec<u32>,
-    /// The neighbour-list build the constants and parked lists belong to (None: stale).
+    /// First particle of each block, then the particle count (see [`block_bounds`]).
+    bounds: Vec<usize>,
+    /// The neighbour-list build the constants, blocks and parked lists belong to (None: stale).
     built_for: Option<u64>,
 }
 
@@ -97,13 +139,14 @@ struct Pairs<'a> {
     j: &'a [u32],
     image: &'a [u8],
     row_start: &'a [u32],
-    n: usize,
+    /// First particle of each block, then the particle count.
+    bounds: &'a [usize],
 }
 
 impl Pairs<'_> {
-    /// First particle of block `b` (or `n` past the end).
+    /// First particle of block `b` (or the particle count past the end).
     fn block_start(&self, b: usize) -> usize {
-        (b * BLOCK).min(self.n)
+        self.bounds[b.min(self.bounds.len() - 1)]
     }
 }
 
@@ -340,7 +383,7 @@ impl ForceBuffers {
         }
         let _s = tracing::trace_span!("pair_constants").entered();
         let (radius, mass) = (&parts.radius, &parts.mass);
-        self.consts.fill(list.len(), |k| {
+        self.consts.fill(coef, list.len(), |k| {
             let (i, j) = (list.i[k] as usize, list.j[k] as usize);
             PairConst::new(coef, radius[i], radius[j], mass[i], mass[j])
         });
@@ -348,18 +391,22 @@ impl ForceBuffers {
         self.image_code
             .extend(list.image.iter().map(|&s| image_code(s)));
         let n = parts.len();
+        block_bounds(n, &list.row_start, &mut self.bounds);
         self.parked_start.clear();
         self.parked_pair.clear();
         self.parked_start.push(0);
-        for k in 0..n {
+        for b in 0..self.bounds.len() - 1 {
             // Pairs from this block and the one before are added directly (see `blocked`).
-            let k0 = (k / BLOCK) * BLOCK;
-            let rev = &list.rev_pair[list.rev_start[k] as usize..list.rev_start[k + 1] as usize];
-            self.parked_pair.extend(
-                rev.iter()
-                    .filter(|&&p| list.i[p as usize] as usize + BLOCK < k0),
-            );
-            self.parked_start.push(self.parked_pair.len() as u32);
+            let before = self.bounds[b.saturating_sub(1)];
+            for k in self.bounds[b]..self.bounds[b + 1] {
+                let rev =
+                    &list.rev_pair[list.rev_start[k] as usize..list.rev_start[k + 1] as usize];
+                self.parked_pair.extend(
+                    rev.iter()
+                        .filter(|&&p| (list.i[p as usize] as usize) < before),
+                );
+                self.parked_start.push(self.parked_pair.len() as u32);
+            }
         }
         self.built_for = Some(list.builds);
     }
@@ -383,20 +430,27 @@ impl ForceBuffers {
         self.refresh(coef, parts, list);
         let mut kin = std::mem::take(&mut self.kin);
         kin.resize(n, Kin::default());
+        // Copies (no sums): any chunking gives the same records.
+        const KIN_CHUNK: usize = 512;
         let fill = |(c, ks): (usize, &mut [Kin])| {
+            let at = c * KIN_CHUNK..c * KIN_CHUNK + ks.len();
+            let (x, v, w) = (
+                &parts.pos[at.clone()],
+                &parts.vel[at.clone()],
+                &parts.omega[at],
+            );
+            // Field by field: a whole `Kin` built first went through the stack and stalled on
+            // store forwarding (4 % of a step on the amorphous workload).
             for (k, slot) in ks.iter_mut().enumerate() {
-                let i = c * BLOCK + k;
-                *slot = Kin {
-                    x: parts.pos[i],
-                    v: parts.vel[i],
-                    w: parts.omega[i],
-                };
+                slot.x = x[k];
+                slot.v = v[k];
+                slot.w = w[k];
             }
         };
         if phase.parallel {
-            kin.par_chunks_mut(BLOCK).enumerate().for_each(fill);
+            kin.par_chunks_mut(KIN_CHUNK).enumerate().for_each(fill);
         } else {
-            kin.chunks_mut(BLOCK).enumerate().for_each(fill);
+            kin.chunks_mut(KIN_CHUNK).enumerate().for_each(fill);
         }
         let consts = std::mem::take(&mut self.consts);
         let ctx = Ctx {
@@ -419,7 +473,7 @@ impl ForceBuffers {
         totals
     }
 
-    /// The pair loop over fixed blocks of `BLOCK` particles (the same blocks for any thread count), in
+    /// The pair loop over the blocks of [`block_bounds`] (the same blocks for any thread count), in
     /// two colours. A block's pairs reach its own particles and, in a packing stored in space order,
     /// the next block's: so block `b` writes straight into the sums of blocks `b` and `b + 1`. Colour 0
     /// runs the even blocks (each owning the slice of blocks `b, b + 1`, which it zeroes first), colour
@@ -433,18 +487,17 @@ impl ForceBuffers {
         list: &mut NeighborList,
         phase: ForcePhase,
     ) -> PairEnergyTotals {
-        let n = ctx.kin.len();
         self.out.resize(list.len(), Parked::default());
         if !phase.virial {
             self.virial.clear();
         }
-        let nb = n.div_ceil(BLOCK);
+        let nb = self.bounds.len() - 1;
         let pairs = Pairs {
             i: &list.i,
             j: &list.j,
             image: &self.image_code,
             row_start: &list.row_start,
-            n,
+            bounds: &self.bounds,
         };
         let mut totals = PairEnergyTotals::default();
         for colour in 0..2 {
@@ -487,13 +540,15 @@ impl ForceBuffers {
                 }
             }
         };
-        // Per block, so that blocks without parked pairs (all of them in space order, but for the
-        // periodic images) are skipped at the cost of one comparison.
+        // Per chunk, so that chunks without parked pairs (all of them in space order, but for the
+        // periodic images) are skipped at the cost of one comparison. Each particle's sum is its
+        // own: any chunking adds the same terms in the same order.
+        const CHUNK: usize = 512;
         let n = self.force.len();
         let block =
             |c: usize, f: &mut [Vec3], t: &mut [Vec3], mut w: Option<&mut [Matrix3<f64>]>| {
-                let k0 = c * BLOCK;
-                if start[k0] == start[(k0 + BLOCK).min(n)] {
+                let k0 = c * CHUNK;
+                if start[k0] == start[(k0 + CHUNK).min(n)] {
                     return;
                 }
                 for k in 0..f.len() {
@@ -507,22 +562,22 @@ impl ForceBuffers {
             };
         let (force, torque, virial) = (&mut self.force, &mut self.torque, &mut self.virial);
         let ft = force
-            .par_chunks_mut(BLOCK)
-            .zip(torque.par_chunks_mut(BLOCK));
+            .par_chunks_mut(CHUNK)
+            .zip(torque.par_chunks_mut(CHUNK));
         match (phase.virial, phase.parallel) {
             (true, true) => ft
-                .zip(virial.par_chunks_mut(BLOCK))
+                .zip(virial.par_chunks_mut(CHUNK))
                 .enumerate()
                 .for_each(|(c, ((f, t), w))| block(c, f, t, Some(w))),
             (false, true) => ft.enumerate().for_each(|(c, (f, t))| block(c, f, t, None)),
             (true, false) => {
-                let it = force.chunks_mut(BLOCK).zip(torque.chunks_mut(BLOCK));
-                it.zip(virial.chunks_mut(BLOCK))
+                let it = force.chunks_mut(CHUNK).zip(torque.chunks_mut(CHUNK));
+                it.zip(virial.chunks_mut(CHUNK))
                     .enumerate()
                     .for_each(|(c, ((f, t), w))| block(c, f, t, Some(w)))
             }
             (false, false) => {
-                let it = force.chunks_mut(BLOCK).zip(torque.chunks_mut(BLOCK));
+                let it = force.chunks_mut(CHUNK).zip(torque.chunks_mut(CHUNK));
                 it.enumerate().for_each(|(c, (f, t))| block(c, f, t, None))
             }
         }
