@@ -105,13 +105,14 @@ fn search_case(profile: Profile) -> SearchCase {
                 ..JunctionConfig::default()
             },
             search: SearchConfig {
-                range: if quick { [12.0, 32.0] } else { [12.0, 30.0] },
+                // Paper: the shipped configs/dstar-silica-6nm.toml (bracket (42, 64] nm, docs/junction.md).
+                range: if quick { [12.0, 32.0] } else { [20.0, 64.0] },
                 seeds: vec![1, 2],
-                relative_width: if quick { 0.3 } else { 0.15 },
+                relative_width: if quick { 0.3 } else { 0.25 },
                 limits: None,
                 max_rounds: if quick { 3 } else { 8 },
-                box_over_diameter: (!quick).then_some([3.0, 2.0, 2.0]),
-                slide_over_diameter: (!quick).then_some(5.0),
+                box_over_diameter: (!quick).then_some([2.5, 1.6, 1.5]),
+                slide_over_diameter: (!quick).then_some(4.0),
                 measure: true,
             },
         },
