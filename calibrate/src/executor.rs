@@ -668,9 +668,9 @@ impl<'a, P: Problem> Executor<'a, P> {
         tracing::info!(
             iteration = rec.iteration,
             accepted,
-            cost,
-            cost_trial = ?rec.cost_trial,
-            lambda,
+            cost = %dem::io::Sig(cost, 4),
+            cost_trial = %rec.cost_trial.map_or("-".to_string(), |c| dem::io::Sig(c, 4).to_string()),
+            lambda = %dem::io::Sig(lambda, 3),
             failure = ?rec.failure,
             "calibration step"
         );

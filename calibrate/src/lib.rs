@@ -18,7 +18,8 @@
 //!   relative errors of the mean E, nu, sigma_N, sigma_T (and gamma) over the recipe's samples;
 //! - [`verification`]: the card measured on fresh samples (mean, spread, d* of eq 22);
 //! - [`config`]: the TOML input (engine or SI units), with unreachable targets refused up front;
-//! - [`card`]: the calibrated parameter card; [`run`]: the whole calibration with its output files.
+//! - [`card`]: the calibrated parameter card; [`run`]: the whole calibration with its output files;
+//! - [`source`]: where a scenario's material comes from (a preset, SI, engine units, an MD card, a card).
 
 pub mod card;
 pub mod config;
@@ -29,6 +30,7 @@ pub mod patch_problem;
 pub mod problem;
 pub mod recipe;
 pub mod run;
+pub mod source;
 pub mod trust_region;
 pub mod verification;
 
@@ -40,4 +42,5 @@ pub use patch_problem::{PatchProblem, Properties, Target, TestSettings, Unknown}
 pub use problem::{EvalFailure, Evaluation, Measured, Problem};
 pub use recipe::{RecipeSettings, SampleCache, Variant, VerifySettings};
 pub use run::{calibrate, remeasure, verify_card, Outcome};
+pub use source::{MaterialSource, ResolvedMaterial, Units};
 pub use verification::{Check, Verification};

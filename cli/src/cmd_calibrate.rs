@@ -171,8 +171,15 @@ pub(crate) fn draw_figure(o: &calibrate::Outcome, path: &Path) -> Result<()> {
 
 /// Runs `cgdem calibrate`.
 pub fn run(args: CalibrateArgs, threads: usize) -> Result<()> {
-    let cfg = CalibrationConfig::from_file(&args.config)
-        .with_context(|| format!("reading {}", args.config.display()))?;
+    let cfg = CalibrationConfig::from_file(&args.config).map_err(|e| {
+        // A TOML error gets the unknown key's own line (see crate::config).
+        let text = std::fs::read_to_string(&args.config).unwrap_or_default();
+        anyhow::anyhow!(
+            "{}",
+            crate::config::with_key_position(&text, &e.to_string())
+        )
+        .context(format!("reading {}", args.config.display()))
+    })?;
     cfg.prepare()
         .with_context(|| format!("checking {}", args.config.display()))?;
     run_config(&cfg, &args.out, threads)?;

@@ -582,6 +582,5 @@ fn read_config<T: serde::de::DeserializeOwned + Default>(
     let Some(p) = config else {
         return Ok(T::default());
     };
-    let text = std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
-    toml::from_str(&text).with_context(|| format!("parsing {what} config {}", p.display()))
+    crate::config::read(p).with_context(|| format!("reading the {what} config"))
 }

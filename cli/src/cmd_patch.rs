@@ -65,10 +65,8 @@ fn table4() -> Material {
     Material::table4(0.15)
 }
 
-fn read_toml<T: serde::de::DeserializeOwned>(path: &PathBuf) -> Result<T> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
-    toml::from_str(&text).with_context(|| format!("parsing {}", path.display()))
+fn read_toml<T: serde::de::DeserializeOwned>(path: &std::path::Path) -> Result<T> {
+    crate::config::read(path)
 }
 
 /// The campaign of `args`: its file, with the card's pair model read in (`--card`, or `[model] card`

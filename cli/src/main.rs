@@ -3,9 +3,14 @@
 mod cmd_bench;
 mod cmd_calibrate;
 mod cmd_doctor;
+mod cmd_dstar;
+mod cmd_junction;
 mod cmd_md;
 mod cmd_patch;
 mod cmd_pipeline;
+mod cmd_report;
+mod config;
+mod progress;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -20,6 +25,10 @@ struct Cli {
     /// Worker threads for the DEM engine (results are bit-identical for any count).
     #[arg(long, global = true, default_value_t = 0)]
     threads: usize,
+    /// More log lines on stderr: -v for each stage's progress, -vv for every detail (`RUST_LOG`
+    /// overrides). Quiet by default: long stages show a progress bar instead.
+    #[arg(short, long, global = true, action = clap::ArgAction::Count)]
+    verbose: u8,
     #[command(subcommand)]
     command: Command,
 }
@@ -45,17 +54,23 @@ enum Command {
     Calibrate(cmd_calibrate::CalibrateArgs),
     /// Material -> sample -> patch tests -> calibration -> card -> verification: `cgdem pipeline --out DIR`.
     Pipeline(cmd_pipeline::PipelineArgs),
+    /// Junction shear (paper 000 section 4): `cgdem junction configs/junction-silica-6nm-D20.toml --out DIR`.
+    Junction(cmd_junction::JunctionArgs),
+    /// Automatic d* search by bisection on the junction size: `cgdem dstar configs/dstar-silica-6nm.toml --out DIR`.
+    Dstar(cmd_dstar::DstarArgs),
+    /// The validation report: every claim with figure, tolerance and verdict (`cgdem report --out DIR`).
+    Report(cmd_report::ReportArgs),
 }
 
 fn main() -> Result<()> {
-    tracing_subscriber::fmt()
-        .with_env_filter(
-            tracing_subscriber::EnvFilter::try_from_default_env()
-                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info")),
-        )
-        .with_writer(std::io::stderr)
-        .init();
     let cli = Cli::parse();
+    // An MD worker's stderr is its job's `worker.log`, the record of the run: it logs every stage.
+    let worker = matches!(cli.command, Command::MdWorker(_));
+    init_logs(if worker {
+        cli.verbose.max(1)
+    } else {
+        cli.verbose
+    });
     // An MD worker keeps the default Ctrl-C behaviour (the process ends at once): LAMMPS cannot
     // stop mid-run cleanly, and the stages it finished are already on disk (md_bridge::stages).
     if !matches!(cli.command, Command::MdWorker(_)) {
@@ -71,7 +86,29 @@ fn main() -> Result<()> {
         Command::Sample(a) => cmd_patch::run_sample(a, cli.threads),
         Command::Calibrate(a) => cmd_calibrate::run(a, cli.threads),
         Command::Pipeline(a) => cmd_pipeline::run(a, cli.threads),
+        Command::Junction(a) => cmd_junction::run(a, cli.threads),
+        Command::Dstar(a) => cmd_dstar::run(a, cli.threads),
+        Command::Report(a) => cmd_report::run(a, cli.threads),
     }
+}
+
+/// Logs on stderr: warnings only by default, `-v` info, `-vv` debug (`RUST_LOG` wins when set);
+/// colour escapes only when stderr is a terminal.
+fn init_logs(verbose: u8) {
+    use std::io::IsTerminal;
+    let level = match verbose {
+        0 => "warn",
+        1 => "info",
+        _ => "debug",
+    };
+    tracing_subscriber::fmt()
+        .with_env_filter(
+            tracing_subscriber::EnvFilter::try_from_default_env()
+                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new(level)),
+        )
+        .with_ansi(std::io::stderr().is_terminal())
+        .with_writer(std::io::stderr)
+        .init();
 }
 
 /// The DEM threads of `--threads`: 0 takes every core the machine offers.

@@ -51,6 +51,9 @@ pub enum DemError {
     /// source: reports would print it twice, and messages flattened to text keep it.
     #[error("i/o error on {path}: {cause}")]
     Io { path: String, cause: std::io::Error },
+    /// A job of a shared list failed (on this process or on another rank); its folder says why.
+    #[error("job {key} failed: {reason}")]
+    JobFailed { key: String, reason: String },
     /// A checkpoint or sample file that cannot be parsed.
     #[error("malformed file {path}: {reason}")]
     Format { path: String, reason: String },

@@ -14,8 +14,10 @@
 //! No scheduler and no network code: the partition is static and results meet in the file system.
 //!
 //! Layout of a cache: `<root>/<key>/inputs.json` (what the job was), `<root>/<key>/result.json` (what it
-//! gave; its presence marks the job done) and whatever the job writes in `<root>/<key>/` (progress
-//! files, dumps, figures). Keys are the first 16 bytes of the SHA-256 of the inputs' JSON (shortest
+//! gave; its presence marks the job done), `<root>/<key>/ran_by` (the shard index and count that ran
+//! it), `<root>/<key>/failed` (the error of a failed attempt: ranks waiting for the job stop and report
+//! it instead of waiting forever; the next attempt removes it) and whatever the job writes in
+//! `<root>/<key>/` (progress files, dumps, figures). Keys are the first 16 bytes of the SHA-256 of the inputs' JSON (shortest
 //! round-trip floats, so equal inputs give equal keys on every machine).
 
 use std::path::{Path, PathBuf};
@@ -80,6 +82,15 @@ impl JobCache {
 
     fn result_path(&self, key: &JobKey) -> PathBuf {
         self.root.join(&key.0).join("result.json")
+    }
+
+    fn failure_path(&self, key: &JobKey) -> PathBuf {
+        self.root.join(&key.0).join("failed")
+    }
+
+    /// The error of the job's last failed attempt, if its folder holds one.
+    pub fn failure(&self, key: &JobKey) -> Option<String> {
+        std::fs::read_to_string(self.failure_path(key)).ok()
     }
 
     /// Whether the job has a stored result.
@@ -237,28 +248,41 @@ pub type Collected<R> = Vec<Option<R>>;
 /// through `run(inputs, job_dir)`, storing each result as it finishes; then, when the shards run
 /// concurrently, waits for the other shards' results. Returns the results in list order. A job that
 /// fails stops the list with its error once the jobs already started have finished (their results are
-/// kept), so nothing computed is lost.
-pub fn run_jobs<I, R, F>(
+/// kept), so nothing computed is lost. The jobs' error type is the caller's (any that an engine error
+/// converts into).
+pub fn run_jobs<I, R, E, F>(
     cache: &JobCache,
     jobs: &[I],
     how: &RunJobs,
     run: F,
-) -> Result<Collected<R>>
+) -> std::result::Result<Collected<R>, E>
 where
     I: Serialize + Sync,
     R: Serialize + DeserializeOwned + Send,
-    F: Fn(&I, &Path) -> Result<R> + Sync,
+    E: From<DemError> + std::fmt::Display + Send,
+    F: Fn(&I, &Path) -> std::result::Result<R, E> + Sync,
 {
     let keys: Vec<JobKey> = jobs.iter().map(JobCache::key).collect::<Result<_>>()?;
     let mine: Vec<usize> = (0..jobs.len())
         .filter(|&j| how.shard.owns(j) && !cache.is_done(&keys[j]))
         .collect();
-    let one = |j: usize| -> Result<()> {
+    let one = |j: usize| -> std::result::Result<(), E> {
         let dir = cache.dir(&keys[j])?;
+        crate::io::progress::remove(&cache.failure_path(&keys[j]))?;
         let t = Instant::now();
-        let result = run(&jobs[j], &dir)?;
+        let result = match run(&jobs[j], &dir) {
+            Ok(r) => r,
+            Err(e) => {
+                // Best effort: the ranks that wait for this job read why it will never come.
+                let _ = write_atomic(&cache.failure_path(&keys[j]), e.to_string().as_bytes());
+                return Err(e);
+            }
+        };
         cache.put(&keys[j], &jobs[j], &result)?;
-        tracing::debug!(job = %keys[j], seconds = t.elapsed().as_secs_f64(), "job done");
+        // Provenance: which shard of how many ran the job (a cluster run's ranks show here).
+        let ran_by = format!("{} {}\n", how.shard.index, how.shard.count);
+        write_atomic(&dir.join("ran_by"), ran_by.as_bytes())?;
+        tracing::debug!(job = %keys[j], seconds = %crate::io::Sig(t.elapsed().as_secs_f64(), 3), "job done");
         Ok(())
     };
     if how.at_once <= 1 || mine.len() <= 1 {
@@ -269,9 +293,11 @@ where
             .build()
             .map_err(|e| DemError::InvalidConfig(format!("cannot start job threads: {e}")))?;
         // Every job runs to its end or error; the first error in list order is reported.
-        let outcomes: Vec<Result<()>> =
+        let outcomes: Vec<std::result::Result<(), E>> =
             pool.install(|| mine.par_iter().with_max_len(1).map(|&j| one(j)).collect());
-        outcomes.into_iter().collect::<Result<()>>()?;
+        outcomes
+            .into_iter()
+            .collect::<std::result::Result<(), E>>()?;
     }
     let mut waited = false;
     loop {
@@ -280,8 +306,20 @@ where
         if missing == 0 || !how.shard.concurrent || how.shard.count == 1 {
             return Ok(results);
         }
+        if let Some((k, reason)) = keys
+            .iter()
+            .zip(&results)
+            .filter(|(_, r)| r.is_none())
+            .find_map(|(k, _)| cache.failure(k).map(|f| (k, f)))
+        {
+            return Err(DemError::JobFailed {
+                key: k.0.clone(),
+                reason,
+            }
+            .into());
+        }
         if crate::interrupt::requested() {
-            return Err(DemError::Interrupted { step: 0 });
+            return Err(DemError::Interrupted { step: 0 }.into());
         }
         if !waited {
             tracing::info!(
@@ -348,6 +386,39 @@ mod tests {
         assert_eq!(r, vec![None, Some(11), None]);
         let r = run_jobs(&cache, &[10u64, 11, 12], &how(0), id).unwrap();
         assert_eq!(r, vec![Some(10), Some(11), Some(12)]);
+        std::fs::remove_dir_all(cache.root()).unwrap();
+    }
+
+    #[test]
+    fn a_rank_waiting_for_a_failed_job_reports_it_instead_of_waiting() {
+        let cache = JobCache::new(scratch("failed-rank"));
+        let jobs = [1u64, 2];
+        // Rank 1 of 2 runs job 1 (index 1) and fails; rank 0 then finds the failure while waiting.
+        let fail = |x: &u64, _: &Path| -> Result<u64> {
+            Err(DemError::InvalidConfig(format!("job {x} cannot run")))
+        };
+        let rank = |i| RunJobs {
+            at_once: 1,
+            shard: Shard {
+                index: i,
+                count: 2,
+                concurrent: true,
+            },
+            poll: Duration::from_millis(5),
+        };
+        assert!(run_jobs(&cache, &jobs, &rank(1), fail).is_err());
+        let ok = |x: &u64, _: &Path| -> Result<u64> { Ok(*x) };
+        let e = run_jobs(&cache, &jobs, &rank(0), ok).unwrap_err();
+        assert!(
+            matches!(e, DemError::JobFailed { .. }) && e.to_string().contains("job 2 cannot run"),
+            "{e}"
+        );
+        // The owner's next attempt clears the mark and runs the job.
+        assert_eq!(
+            run_jobs(&cache, &jobs, &rank(1), ok).unwrap(),
+            [Some(1), Some(2)]
+        );
+        assert!(cache.failure(&JobCache::key(&2u64).unwrap()).is_none());
         std::fs::remove_dir_all(cache.root()).unwrap();
     }
 

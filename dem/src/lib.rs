@@ -11,6 +11,7 @@
 //! - [`force`]: pair-force kernels and the parallel, deterministic force phase;
 //! - [`state`], [`domain`], [`neighbor`], [`walls`]: particles, box, neighbour list, rigid groups;
 //! - [`integrate`], [`sim`]: the step pipeline; [`energy`] the ledger;
+//! - [`observe`]: observers a scenario composes (frames, wall forces, dumps); [`jobs`]: runs as cached jobs;
 //! - [`sample`]: sample generators; [`io`]: dumps and checkpoints; [`units`]: unit systems.
 
 pub mod domain;
@@ -24,6 +25,7 @@ pub mod io;
 pub mod jobs;
 pub mod material;
 pub mod neighbor;
+pub mod observe;
 pub mod sample;
 pub mod scenario;
 pub mod sim;

@@ -59,25 +59,8 @@ impl MaterialCard {
     }
 }
 
-/// Length scales of paper 000, metres.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct LengthScales {
-    /// d_min = 4 gamma / sigma_N (eq 19): smallest sensible DEM particle.
-    pub d_min: f64,
-    /// d_c = 4 gamma E / sigma_N^2 (eq 18): above it strength and gamma cannot both be matched.
-    pub d_c: f64,
-    /// d* = 32 gamma G / sigma_T^2 (eq 22), G = E / (2 (1 + nu)): ductile-to-debris junction size.
-    pub d_star: f64,
-}
-
-pub fn length_scales(e: f64, nu: f64, sigma_n: f64, sigma_t: f64, gamma: f64) -> LengthScales {
-    let g = e / (2.0 * (1.0 + nu));
-    LengthScales {
-        d_min: 4.0 * gamma / sigma_n,
-        d_c: 4.0 * gamma * e / (sigma_n * sigma_n),
-        d_star: 32.0 * gamma * g / (sigma_t * sigma_t),
-    }
-}
+/// Length scales of paper 000 (eqs 18, 19, 22), metres for a card in SI.
+pub use wear::scales::{length_scales, LengthScales};
 
 impl Material {
     /// Paper 000 Table 5 (amorphous silica targets).

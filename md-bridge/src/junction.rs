@@ -1,15 +1,18 @@
 //! MD junction shear for the 2D model material (paper 000 section 4 geometry, scaled): two crystal
 //! slabs joined by a junction of width D and height D/2, bottom wall fixed, top wall driven at
 //! constant velocity under a constant normal load, periodic along the sliding direction. Junction
-//! atom positions and the tangential force are sampled and handed to [`crate::outcome::classify`].
+//! atom positions and the tangential force are sampled and handed to [`wear::classify`], the same
+//! classifier that judges the DEM junctions, with the cluster analysis of [`wear::outcome::detachment`]
+//! (bonds: pairs within the LJ cut-off; anchors: the wall atoms) as evidence.
 //! Units are reduced LJ (sigma, epsilon, tau); atoms interact through the model material's
 //! shifted LJ pair with the configured cut-off.
 
 use crate::error::{MdError, Result};
 use crate::lammps::Lammps;
 use crate::model::{lattice_commands, lattice_spacing, pair_commands};
-use crate::outcome::{classify, ClassifyParams, Verdict};
 use serde::{Deserialize, Serialize};
+use wear::outcome::{detachment, unwrap_frame, Bonding, Periodicity};
+use wear::{classify, ClassifyParams, Verdict};
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -188,26 +191,39 @@ thermo 0",
             .map(|&i| [x[3 * i], x[3 * i + 1], 0.0])
             .collect()
     };
+    let wear_err = |e: wear::WearError| MdError::measurement("junction", e.to_string());
+    let per = Periodicity([Some(lx), None, None]);
     let mut frames = vec![pick(&x0)];
     let (mut time, mut force) = (vec![0.0], vec![0.0]);
     let every = frame_steps(cfg, d);
+    let mut x = x0.clone();
     for k in 1..=cfg.frames {
         lmp.command(&format!(
             "run {every} pre {} post no",
             if k == 1 { "yes" } else { "no" }
         ))?;
-        let x = lmp.gather_f64("x", 3)?;
+        x = lmp.gather_f64("x", 3)?;
         // Unwrap along the periodic x by the displacement since the previous frame (< Lx/2).
-        let prev = frames.last().cloned().unwrap_or_default();
         let mut cur = pick(&x);
-        for (c, p) in cur.iter_mut().zip(&prev) {
-            c[0] -= lx * ((c[0] - p[0]) / lx).round();
-        }
+        unwrap_frame(&frames[frames.len() - 1], &mut cur, &per).map_err(wear_err)?;
         frames.push(cur);
         time.push(k as f64 * every as f64 * cfg.timestep);
         force.push(lmp.variable("ft")?);
     }
-    let verdict = classify(&frames, &force, &cfg.classify);
+    // Cluster analysis over every atom, anchored at the two walls (the atoms in the wall slabs).
+    let all =
+        |x: &[f64]| -> Vec<[f64; 3]> { (0..n).map(|i| [x[3 * i], x[3 * i + 1], 0.0]).collect() };
+    let anchors: Vec<usize> = (0..n)
+        .filter(|&i| x0[3 * i + 1] < wall || x0[3 * i + 1] >= y3 - wall)
+        .collect();
+    let bonding = Bonding {
+        radii: None,
+        margin: cfg.cutoff,
+        periodicity: per,
+    };
+    let detached =
+        detachment(&all(&x0), &all(&x), &bonding, &members, &anchors).map_err(wear_err)?;
+    let verdict = classify(&frames, &force, Some(detached), &cfg.classify).map_err(wear_err)?;
     Ok(JunctionResult {
         n_atoms: n as u64,
         junction_atoms: members.len(),

@@ -10,7 +10,9 @@
 //!   `mpirun -np N`) so a LAMMPS abort cannot kill the workbench, cached on disk with provenance;
 //!   [`stages`]: a job's finished stages, saved as they complete, so an interrupted job resumes;
 //! - [`silica`]: melt-quench and the property measurements; [`card`]: the material card and the
-//!   length scales of paper 000 (eqs 18, 19, 22).
+//!   length scales of paper 000 (eqs 18, 19, 22, computed by the `wear` crate);
+//! - [`junction`]: the model material's junction shear, classified by the `wear` crate's classifier,
+//!   the same code that judges the DEM junctions.
 //!
 //! PyO3 appears only in this crate; everything it exports is plain Rust data.
 
@@ -23,7 +25,6 @@ pub mod junction;
 pub mod lammps;
 pub mod loading;
 pub mod model;
-pub mod outcome;
 mod python;
 pub mod silica;
 pub mod stages;

@@ -6,7 +6,7 @@
 mod common;
 
 use md_bridge::junction::{run, JunctionConfig};
-use md_bridge::outcome::Outcome;
+use wear::Outcome;
 
 fn config(width: f64) -> JunctionConfig {
     JunctionConfig {
@@ -23,8 +23,8 @@ fn junctions_below_and_above_d_star_give_opposite_outcomes() {
     let small = run(&common::lammps(), &config(12.0)).unwrap();
     let v = &small.verdict;
     eprintln!(
-        "D = 12: {:?} turn {:.2} rigidity {:.2}",
-        v.outcome, v.turn, v.rigidity
+        "D = 12: {:?} turn {:.2} rigidity {:.2} {:?}",
+        v.outcome, v.turn, v.rigidity, v.detachment
     );
     assert_eq!(v.outcome, Outcome::PlasticSmoothing, "{v:?}");
     assert!(
@@ -32,12 +32,15 @@ fn junctions_below_and_above_d_star_give_opposite_outcomes() {
         "a smoothed junction does not roll: {}",
         v.turn
     );
+    // The cluster analysis agrees: no body of junction atoms lost the walls (measured 0.08).
+    let d = v.detachment.as_ref().unwrap();
+    assert!(d.debris_fraction < 0.3, "{d:?}");
 
     let large = run(&common::lammps(), &config(50.0)).unwrap();
     let v = &large.verdict;
     eprintln!(
-        "D = 50: {:?} turn {:.2} rigidity {:.2}",
-        v.outcome, v.turn, v.rigidity
+        "D = 50: {:?} turn {:.2} rigidity {:.2} {:?}",
+        v.outcome, v.turn, v.rigidity, v.detachment
     );
     assert_eq!(
         v.outcome,
@@ -48,5 +51,8 @@ fn junctions_below_and_above_d_star_give_opposite_outcomes() {
     );
     // Corroboration from the force history: once detached, the top wall drags a rolling particle.
     assert!(v.force_late_over_peak.unwrap() < 0.5, "{v:?}");
+    // ... and from the cluster analysis: the junction came off as one body (measured 0.997).
+    let d = v.detachment.as_ref().unwrap();
+    assert!(d.debris_fraction > 0.9, "{d:?}");
     assert!(large.junction_atoms > 1000 && small.junction_atoms < 100);
 }

@@ -1,5 +1,6 @@
 //! LAMMPS-style text dumps (`ITEM: TIMESTEP ...`), which OVITO opens directly: one frame per call,
-//! columns id, type (group + 1), x, y, z, radius, vx, vy, vz, wx, wy, wz.
+//! columns id, type (group + 1), x, y, z, radius, vx, vy, vz, wx, wy, wz, then any integer labels the
+//! caller adds (a scenario's `body`: which body each particle initially belonged to, for colouring).
 
 use std::io::Write;
 use std::path::Path;
@@ -7,8 +8,16 @@ use std::path::Path;
 use crate::error::{DemError, Result};
 use crate::sim::Simulation;
 
+/// A per-particle integer column of a dump.
+pub type Label<'a> = (&'a str, &'a [u32]);
+
 /// Appends one frame of `sim` to the dump file at `path` (created if missing).
 pub fn append_frame(sim: &Simulation, path: &Path) -> Result<()> {
+    append_labeled_frame(sim, path, &[])
+}
+
+/// [`append_frame`] with extra integer columns, one value per particle.
+pub fn append_labeled_frame(sim: &Simulation, path: &Path, labels: &[Label]) -> Result<()> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| DemError::io(dir, e))?;
     }
@@ -18,13 +27,32 @@ pub fn append_frame(sim: &Simulation, path: &Path) -> Result<()> {
         .open(path)
         .map_err(|e| DemError::io(path, e))?;
     let mut w = std::io::BufWriter::new(file);
-    write_frame(sim, &mut w).map_err(|e| DemError::io(path, e))?;
+    write_labeled_frame(sim, &mut w, labels).map_err(|e| DemError::io(path, e))?;
     w.flush().map_err(|e| DemError::io(path, e))
 }
 
 /// Writes one frame to any writer.
 pub fn write_frame(sim: &Simulation, w: &mut impl Write) -> std::io::Result<()> {
+    write_labeled_frame(sim, w, &[])
+}
+
+/// Writes one frame with extra integer columns (each must hold one value per particle).
+pub fn write_labeled_frame(
+    sim: &Simulation,
+    w: &mut impl Write,
+    labels: &[Label],
+) -> std::io::Result<()> {
     let p = &sim.particles;
+    if let Some((name, v)) = labels.iter().find(|(_, v)| v.len() != p.len()) {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!(
+                "label '{name}' has {} values for {} particles",
+                v.len(),
+                p.len()
+            ),
+        ));
+    }
     let b = &sim.sim_box;
     writeln!(w, "ITEM: TIMESTEP\n{}", sim.step_count())?;
     writeln!(w, "ITEM: NUMBER OF ATOMS\n{}", p.len())?;
@@ -37,13 +65,17 @@ pub fn write_frame(sim: &Simulation, w: &mut impl Write) -> std::io::Result<()> 
     for a in 0..3 {
         writeln!(w, "{:.17e} {:.17e}", b.lo[a], b.hi[a])?;
     }
-    writeln!(
+    write!(
         w,
         "ITEM: ATOMS id type x y z radius vx vy vz omegax omegay omegaz"
     )?;
+    for (name, _) in labels {
+        write!(w, " {name}")?;
+    }
+    writeln!(w)?;
     for i in 0..p.len() {
         let (x, v, o) = (p.pos[i], p.vel[i], p.omega[i]);
-        writeln!(
+        write!(
             w,
             "{} {} {:.10e} {:.10e} {:.10e} {:.10e} {:.6e} {:.6e} {:.6e} {:.6e} {:.6e} {:.6e}",
             i + 1,
@@ -59,6 +91,10 @@ pub fn write_frame(sim: &Simulation, w: &mut impl Write) -> std::io::Result<()> 
             o.y,
             o.z
         )?;
+        for (_, v) in labels {
+            write!(w, " {}", v[i])?;
+        }
+        writeln!(w)?;
     }
     Ok(())
 }

@@ -2,3 +2,6 @@
 pub mod checkpoint;
 pub mod dump;
 pub mod progress;
+pub mod sig;
+
+pub use sig::Sig;

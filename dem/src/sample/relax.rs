@@ -29,6 +29,7 @@ use crate::domain::BoxControl;
 use crate::error::{not_positive, DemError, Result};
 use crate::io::checkpoint::Checkpoint;
 use crate::io::progress::{self, ProgressFile, SaveClock};
+use crate::io::Sig;
 use crate::material::{Interactions, PairModel};
 use crate::sim::{Parallelism, RunConfig, Simulation, TimeStep};
 use crate::Vec3;
@@ -292,7 +293,7 @@ pub fn relax_resumable(
                 "relaxation phase 2 check"
             );
             if steps2.is_multiple_of(50 * cfg.check_every) {
-                tracing::info!(step = steps2, max_stress_over_e = w, "relaxation phase 2");
+                tracing::info!(step = steps2, max_stress_over_e = %Sig(w, 3), "relaxation phase 2");
             }
             if w < cfg.stress_tolerance {
                 converged = true;
@@ -369,9 +370,9 @@ pub fn relax_resumable(
     tracing::info!(
         steps = steps2,
         converged,
-        volume_fraction = report.volume_fraction,
-        coordination = coord.interacting,
-        seconds = report.wall_seconds,
+        volume_fraction = %Sig(report.volume_fraction, 4),
+        coordination = %Sig(coord.interacting, 4),
+        seconds = %Sig(report.wall_seconds, 3),
         "relaxed"
     );
     out.kind = "relaxed".into();

@@ -29,10 +29,14 @@ pub enum SampleSpec {
     /// fixes the largest diameter to a fraction of L instead (section 3.3 / A.4: 0.05).
     /// `insert_fraction` is the volume fraction of the random insertion (default 0.75, the paper's); a
     /// lower one (0.5) leaves holes in the relaxed solid (docs/patch-tests.md, looser packings).
+    /// `h_over_d0` gives the box a height (y) other than L (the junction's 60 x 40 x 40 nm box).
     Amorphous {
         d0_over_dc: f64,
         l_over_d0: f64,
         w_over_d0: f64,
+        // Not written when absent, so earlier recipes keep their fingerprints.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        h_over_d0: Option<f64>,
         #[serde(default = "d_ds")]
         ds_over_d0: f64,
         #[serde(default = "d_dl")]
@@ -104,6 +108,7 @@ pub fn make_sample_resumable(
             d0_over_dc,
             l_over_d0,
             w_over_d0,
+            h_over_d0,
             ds_over_d0,
             dl_over_d0,
             dl_over_l,
@@ -114,7 +119,7 @@ pub fn make_sample_resumable(
             let l = l_over_d0 * d0;
             let dl = dl_over_l.map_or(dl_over_d0 * d0, |f| (f * l).max(d0));
             let ins = InsertionConfig {
-                lengths: Vec3::new(l, l, w_over_d0 * d0),
+                lengths: Vec3::new(l, h_over_d0.map_or(l, |h| h * d0), w_over_d0 * d0),
                 sizes: SizeDistribution::paper000(d0, ds_over_d0 * d0, dl),
                 volume_fraction: *insert_fraction,
                 density: rho,

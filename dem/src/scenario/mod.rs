@@ -1,7 +1,11 @@
 //! Scenarios: complete numerical experiments built on the engine. Each is a function with a typed serde
 //! configuration (defaults are the papers' values) and a typed result, deterministic for a given sample
 //! and model, returning errors rather than panicking.
+//! - [`rig`]: the shared ground: a sample between two rigid walls along a chosen axis;
 //! - [`patch`]: the patch tests of paper 000 section 3 (elastic constants, tensile and shear strength,
-//!   fracture energy), the inner loop of the calibration.
+//!   fracture energy), the inner loop of the calibration;
+//! - [`junction`]: junction shear of paper 000 section 4, plastic smoothing or a rolling wear particle.
 
+pub mod junction;
 pub mod patch;
+pub mod rig;

@@ -2,7 +2,9 @@
 //! check against the numbers they plot) and then drawn; drawing errors carry the file name.
 
 pub mod calibration;
-mod chart;
+pub(crate) mod chart;
+pub mod dstar;
+pub mod junction;
 pub mod md;
 pub mod patch;
-mod style;
+pub(crate) mod style;

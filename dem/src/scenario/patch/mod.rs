@@ -18,11 +18,14 @@
 
 pub mod curve;
 pub mod elastic;
-mod rig;
 pub mod strength;
 pub mod suite;
 
 use serde::{Deserialize, Serialize};
+
+use crate::material::{PairCoefficients, PairModel};
+use crate::sample::Sample;
+use crate::scenario::rig::RigSpec;
 
 pub use crate::io::progress::ProgressFile;
 pub use curve::{Curve, CurvePoint};
@@ -39,6 +42,15 @@ pub struct WallConfig {
     /// Wall thickness in units of the largest interaction range (d_max + delta_f,max); default 1.05: a
     /// free particle then never sees past a wall, and the walls stay as thin as that allows.
     pub thickness: f64,
+}
+
+impl WallConfig {
+    /// The rig of the patch tests: walls normal to y, shear along x, `thickness` times the largest
+    /// interaction range of `sample` under `model`.
+    pub(crate) fn rig_spec(&self, sample: &Sample, model: &PairModel) -> RigSpec {
+        let r_max = sample.particles.radius.iter().cloned().fold(0.0, f64::max);
+        RigSpec::y_normal(self.thickness * PairCoefficients::new(model).max_cutoff(r_max))
+    }
 }
 
 impl Default for WallConfig {

@@ -17,13 +17,14 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::rig::Rig;
 use super::{target_strength, Curve, CurvePoint, WallConfig};
 use crate::error::{not_positive, DemError, Result};
 use crate::io::checkpoint::Checkpoint;
 use crate::io::progress::{self, ProgressFile, SaveClock};
+use crate::io::Sig;
 use crate::material::PairModel;
 use crate::sample::Sample;
+use crate::scenario::rig::Rig;
 use crate::sim::{Parallelism, RunConfig, Simulation, TimeStep};
 use crate::walls::RigidMotion;
 use crate::Vec3;
@@ -228,7 +229,7 @@ pub fn strength_resumable(
         track_energy: tensile,
         ..RunConfig::default()
     };
-    let mut rig = Rig::new(sample, model, &cfg.walls, run, par)?;
+    let mut rig = Rig::new(sample, model, cfg.walls.rig_spec(sample, model), run, par)?;
     let key = progress::key(&(cfg, model), sample)?;
     let saved = progress.and_then(|f| progress::load::<Progress>(&f.path, &key));
     let mut st = match saved {
@@ -315,7 +316,7 @@ pub fn strength_resumable(
         }
         let peak = st.peak.unwrap_or(value);
         if st.steps % every < cfg.record_every {
-            tracing::info!(mode = ?cfg.mode, step = st.steps, strain, stress = value, peak, "strength test");
+            tracing::info!(mode = ?cfg.mode, step = st.steps, strain = %Sig(strain, 4), stress = %Sig(value, 4), peak = %Sig(peak, 4), "strength test");
         }
         let past_peak = strain > st.peak_strain && peak > 0.0;
         st.low = if past_peak && value.abs() < cfg.stop_below * peak {
@@ -384,7 +385,7 @@ pub fn strength_resumable(
         st.done = Some(res.clone());
         save_progress(f, &key, &mut st, &rig, t0)?;
     }
-    tracing::info!(mode = ?cfg.mode, strength = peak, ratio = res.ratio, steps, seconds = res.wall_seconds, "strength test");
+    tracing::info!(mode = ?cfg.mode, strength = %Sig(peak, 4), ratio = %Sig(res.ratio, 4), steps, seconds = %Sig(res.wall_seconds, 3), "strength test");
     Ok(res)
 }
 

@@ -1,8 +1,18 @@
-//! The wall rig shared by the patch tests (see the parent module for the conventions).
+//! The wall rig every scenario shares (DESIGN.md section 7): a sample between two rigid walls facing
+//! each other along a chosen *normal* axis, made of the particles within `thickness` of the two faces
+//! normal to it; the box stays periodic along the other two axes and becomes open along the normal.
+//! Each wall starts frozen; a scenario drives it per axis (velocity, force or traction, see
+//! [`crate::walls`]). The patch tests use it with the normal along y and the shear along x, as do the
+//! junction and the sliding layer.
+//!
+//! Conventions of its measures:
+//! - strain: (change of the wall separation, or offset along the shear axis) / L0, with L0 the gap
+//!   between the innermost wall particle centres;
+//! - stress: virial stress (tension positive) of the free particles over their share of the sample
+//!   volume, V_free = V_box N_free / N, stretched by (1 + eps_normal) (see the patch tests).
 
 use nalgebra::Matrix3;
 
-use super::WallConfig;
 use crate::domain::SimBox;
 use crate::error::{DemError, Result};
 use crate::material::{PairCoefficients, PairModel};
@@ -11,13 +21,36 @@ use crate::sim::{Parallelism, RunConfig, Simulation};
 use crate::walls::{Group, RigidMotion};
 use crate::Vec3;
 
-/// Group indices of the rig.
-pub(crate) const BOTTOM: u32 = 1;
-pub(crate) const TOP: u32 = 2;
+/// Group indices of the rig: free particles, bottom wall, top wall.
+pub const FREE: u32 = 0;
+pub const BOTTOM: u32 = 1;
+pub const TOP: u32 = 2;
+
+/// Where the walls are and which way the rig shears.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RigSpec {
+    /// Axis normal to the walls.
+    pub normal: usize,
+    /// Axis of the shear measures (the top wall's sliding direction).
+    pub shear: usize,
+    /// Wall thickness (box length units): particles whose centres lie this close to a face.
+    pub thickness: f64,
+}
+
+impl RigSpec {
+    /// Walls normal to y, shear along x, as in paper 000 Fig. 4.
+    pub fn y_normal(thickness: f64) -> Self {
+        RigSpec {
+            normal: 1,
+            shear: 0,
+            thickness,
+        }
+    }
+}
 
 /// A sample between two rigid walls, with what the measurements need.
 #[derive(Debug)]
-pub(crate) struct Rig {
+pub struct Rig {
     pub sim: Simulation,
     /// Whether each particle is free (the deformable part).
     pub free: Vec<bool>,
@@ -30,8 +63,10 @@ pub(crate) struct Rig {
     pub offset0: Vec3,
     /// Gap between the innermost wall particle centres (the strained length).
     pub l0: f64,
-    /// Cross-section normal to y.
+    /// Cross-section normal to the normal axis.
     pub area: f64,
+    /// The axes.
+    pub spec: RigSpec,
     /// Volume of the deformable part before straining.
     pub v_free0: f64,
     /// Initial positions (for the fitted strain).
@@ -39,24 +74,32 @@ pub(crate) struct Rig {
 }
 
 impl Rig {
-    /// Builds the rig from a periodic sample; both walls frozen, free particles at rest.
+    /// Builds the rig from a sample periodic along the two axes other than the normal; both walls
+    /// frozen, free particles at rest.
     pub fn new(
         sample: &Sample,
         model: &PairModel,
-        walls: &WallConfig,
+        spec: RigSpec,
         run: RunConfig,
         par: Parallelism,
     ) -> Result<Self> {
         let bx0 = sample.sim_box;
-        if !(bx0.periodic[0] && bx0.periodic[2]) {
-            return Err(DemError::InvalidBox(
-                "patch tests need a sample periodic along x and z".into(),
-            ));
+        let (n, s) = (spec.normal, spec.shear);
+        if n > 2 || s > 2 || n == s {
+            return Err(DemError::InvalidConfig(format!(
+                "rig axes: normal {n} and shear {s} must be two different axes among 0, 1, 2"
+            )));
         }
-        if !(walls.thickness.is_finite() && walls.thickness > 0.0) {
+        let other = 3 - n - s;
+        if !(bx0.periodic[s] && bx0.periodic[other]) {
+            return Err(DemError::InvalidBox(format!(
+                "a wall rig needs a sample periodic along axes {s} and {other}"
+            )));
+        }
+        if !(spec.thickness.is_finite() && spec.thickness > 0.0) {
             return Err(DemError::InvalidConfig(format!(
                 "wall thickness {} must be positive",
-                walls.thickness
+                spec.thickness
             )));
         }
         model.validate()?;
@@ -69,8 +112,8 @@ impl Rig {
         }
         let r_max = p.radius.iter().cloned().fold(0.0, f64::max);
         let range = PairCoefficients::new(model).max_cutoff(r_max);
-        let t = walls.thickness * range;
-        let (lo, hi) = (bx0.lo.y, bx0.hi.y);
+        let t = spec.thickness;
+        let (lo, hi) = (bx0.lo[n], bx0.hi[n]);
         if hi - lo < 2.0 * t + range {
             return Err(DemError::InvalidBox(format!(
                 "sample height {:.4e} too small for two walls of {t:.4e} and a free part",
@@ -78,34 +121,36 @@ impl Rig {
             )));
         }
         for i in 0..p.len() {
-            p.group[i] = if p.pos[i].y < lo + t {
+            p.group[i] = if p.pos[i][n] < lo + t {
                 BOTTOM
-            } else if p.pos[i].y >= hi - t {
+            } else if p.pos[i][n] >= hi - t {
                 TOP
             } else {
-                0
+                FREE
             };
         }
-        let free: Vec<bool> = p.group.iter().map(|&g| g == 0).collect();
+        let free: Vec<bool> = p.group.iter().map(|&g| g == FREE).collect();
         let n_free = free.iter().filter(|&&f| f).count();
         let members =
             |g: u32| -> Vec<usize> { (0..p.len()).filter(|&i| p.group[i] == g).collect() };
         let (bottom, top) = (members(BOTTOM), members(TOP));
         if n_free == 0 || bottom.is_empty() || top.is_empty() {
             return Err(DemError::InvalidConfig(
-                "patch rig needs particles in both walls and between".into(),
+                "a wall rig needs particles in both walls and between".into(),
             ));
         }
         let y_bot = bottom
             .iter()
-            .map(|&i| p.pos[i].y)
+            .map(|&i| p.pos[i][n])
             .fold(f64::NEG_INFINITY, f64::max);
         let y_top = top
             .iter()
-            .map(|&i| p.pos[i].y)
+            .map(|&i| p.pos[i][n])
             .fold(f64::INFINITY, f64::min);
         let offset0 = p.pos[top[0]] - p.pos[bottom[0]];
-        let bx = SimBox::new(bx0.lo, bx0.hi, [true, false, true])?;
+        let mut periodic = [true; 3];
+        periodic[n] = false;
+        let bx = SimBox::new(bx0.lo, bx0.hi, periodic)?;
         let l = bx.lengths();
         let groups = vec![
             Group::free("free"),
@@ -123,46 +168,54 @@ impl Rig {
             top_members: top,
             offset0,
             l0: y_top - y_bot,
-            area: l.x * l.z,
+            area: l[s] * l[other],
+            spec,
             v_free0,
             pos0,
         })
     }
 
-    /// Top-wall displacement relative to the bottom wall over L0: (shear along x, normal along y).
-    pub fn strains(&self) -> (f64, f64) {
+    /// Top-wall displacement relative to the bottom wall: (along the shear axis, along the normal).
+    pub fn wall_offset(&self) -> (f64, f64) {
         let p = &self.sim.particles;
         let d = p.pos[self.top_ref] - p.pos[self.bottom_ref] - self.offset0;
-        (d.x / self.l0, d.y / self.l0)
+        (d[self.spec.shear], d[self.spec.normal])
     }
 
-    /// Strain of the deformable part from its own displacements: least-squares slopes of u_x and u_y
-    /// against the initial y of the free particles (shear, normal). Unlike [`Rig::strains`] it does not
+    /// Top-wall displacement relative to the bottom wall over L0: (shear, normal).
+    pub fn strains(&self) -> (f64, f64) {
+        let (s, n) = self.wall_offset();
+        (s / self.l0, n / self.l0)
+    }
+
+    /// Strain of the deformable part from its own displacements: least-squares slopes of the shear and
+    /// normal displacements against the initial normal coordinate of the free particles (shear, normal). Unlike [`Rig::strains`] it does not
     /// see the ragged wall faces, so it is the better measure while the deformation is homogeneous.
     pub fn fitted_strains(&self) -> (f64, f64) {
         let p = &self.sim.particles;
         let bx = &self.sim.sim_box;
         let idx = (0..p.len()).filter(|&i| self.free[i]);
         let n = self.free.iter().filter(|&&f| f).count() as f64;
-        let y_mean = idx.clone().map(|i| self.pos0[i].y).sum::<f64>() / n;
+        let (a, b) = (self.spec.shear, self.spec.normal);
+        let y_mean = idx.clone().map(|i| self.pos0[i][b]).sum::<f64>() / n;
         let (mut sxx, mut sux, mut suy, mut ux_m, mut uy_m) = (0.0, 0.0, 0.0, 0.0, 0.0);
-        // Displacements by minimum image: positions are wrapped along x and z at list rebuilds.
+        // Displacements by minimum image: positions are wrapped along the periodic axes at list rebuilds.
         let disp: Vec<(f64, Vec3)> = idx
             .map(|i| {
                 (
-                    self.pos0[i].y - y_mean,
+                    self.pos0[i][b] - y_mean,
                     bx.min_image(&self.pos0[i], &p.pos[i]),
                 )
             })
             .collect();
         for (_, u) in &disp {
-            ux_m += u.x / n;
-            uy_m += u.y / n;
+            ux_m += u[a] / n;
+            uy_m += u[b] / n;
         }
         for (dy, u) in &disp {
             sxx += dy * dy;
-            sux += dy * (u.x - ux_m);
-            suy += dy * (u.y - uy_m);
+            sux += dy * (u[a] - ux_m);
+            suy += dy * (u[b] - uy_m);
         }
         (sux / sxx, suy / sxx)
     }
@@ -182,13 +235,17 @@ impl Rig {
             .virial_stress(Some(&|i| free[i]), Some(self.v_free0 * (1.0 + eyy)))
     }
 
-    /// Pair force of the sample on the top wall, per unit area (the traction the wall transmits).
-    pub fn top_traction(&self) -> Vec3 {
+    /// Pair force of the sample on the top wall at the last step (summed in member order).
+    pub fn top_force(&self) -> Vec3 {
         let f = self.sim.forces();
         self.top_members
             .iter()
             .fold(Vec3::zeros(), |a, &i| a + f[i])
-            / self.area
+    }
+
+    /// Pair force of the sample on the top wall, per unit area (the traction the wall transmits).
+    pub fn top_traction(&self) -> Vec3 {
+        self.top_force() / self.area
     }
 
     /// Sets the top wall's motion.

@@ -1,0 +1,29 @@
+//! The report's sections, in page order. A section is a module with `pub const SECTION: Section`;
+//! adding one is writing that module and one line in [`all`].
+
+pub mod calibration;
+pub mod force_laws;
+pub mod md;
+pub mod patch;
+pub mod performance;
+pub mod two_particle;
+pub mod wear;
+
+use super::Section;
+
+/// Every section, in the order of the page.
+pub fn all() -> Vec<Section> {
+    vec![
+        force_laws::SECTION,
+        two_particle::SECTION,
+        patch::HCP,
+        patch::AMORPHOUS,
+        calibration::SECTION,
+        md::SILICA,
+        md::MODEL,
+        performance::SECTION,
+        wear::JUNCTION,
+        wear::SLIDING,
+        wear::IMPACT,
+    ]
+}

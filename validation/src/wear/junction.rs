@@ -1,0 +1,299 @@
+//! One junction run as the workbench runs it (`cgdem junction CONFIG --out DIR`, and every run of a d*
+//! search): the config file (units, material source, junction settings), the relaxed sample shared by
+//! every run of the same recipe and seed, the run itself (resumable), and its outputs:
+//! - `verdict.json`: `outcome` (`plastic_smoothing` or `wear_particle`) beside its evidence, the
+//!   material's source and d* of eq 22, and the run's cost;
+//! - `force.csv`: the pair force on the top wall against time and slide distance;
+//! - `frames.json`: the junction members' unwrapped positions, frame by frame;
+//! - `junction.dump`: LAMMPS-style frames (OVITO) with `body` and `junction` columns;
+//! - `snapshot.png` (first and last frame, side view through the junction) and `force.png`.
+
+use std::path::Path;
+
+use calibrate::{MaterialSource, ResolvedMaterial, Units};
+use dem::io::checkpoint::write_atomic;
+use dem::io::progress::{self, ProgressFile};
+use dem::jobs::{run_jobs, JobCache, RunJobs};
+use dem::material::{ForceLaw, PairModel};
+use dem::sample::{make_sample_resumable, RelaxConfig, Sample, SampleSpec};
+use dem::scenario::junction::{run_resumable, JunctionConfig, JunctionResult};
+use dem::Parallelism;
+use serde::{Deserialize, Serialize};
+use wear::outcome::Detachment;
+use wear::Outcome;
+
+use crate::error::{Result, ValidationError};
+use crate::figures::junction::{draw_force, draw_snapshots};
+
+/// A junction config file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JunctionFile {
+    /// Units of every number in the file; default nano (nm, ns, MPa, m/s), the paper's silica runs.
+    #[serde(default = "nano")]
+    pub units: Units,
+    /// Where the material comes from (see `calibrate::source`).
+    pub material: MaterialSource,
+    /// The run; default the paper's silica set-up (D = 20 nm, d0 = 6 nm).
+    #[serde(default)]
+    pub junction: JunctionConfig,
+}
+
+fn nano() -> Units {
+    Units::Nano
+}
+
+impl JunctionFile {
+    /// Resolves the material (relative paths from `base`, the config's folder) and checks the
+    /// junction settings.
+    pub fn resolve(&self, base: &Path) -> Result<ResolvedMaterial> {
+        let m = self
+            .material
+            .resolve(base, self.units, ForceLaw::Cohesive)?;
+        self.junction.validate()?;
+        Ok(m)
+    }
+}
+
+/// The recipe of a junction's relaxed box: the config's lengths and size distribution, d0 in units of
+/// the material's d_c (eq 18).
+pub fn recipe(cfg: &JunctionConfig, model: &PairModel) -> SampleSpec {
+    let d_c = model.material.critical_diameter();
+    let d0 = cfg.d0;
+    SampleSpec::Amorphous {
+        d0_over_dc: d0 / d_c,
+        l_over_d0: cfg.lengths[0] / d0,
+        w_over_d0: cfg.lengths[2] / d0,
+        h_over_d0: Some(cfg.lengths[1] / d0),
+        ds_over_d0: cfg.ds_over_d0,
+        dl_over_d0: cfg.dl / d0,
+        dl_over_l: None,
+        seed: cfg.seed,
+        insert_fraction: cfg.insert_fraction,
+    }
+}
+
+/// How long the relaxation took, and of what.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SampleRecord {
+    pub particles: usize,
+    pub seconds: f64,
+    pub converged: bool,
+}
+
+/// What identifies a relaxed box: the recipe, the model and the relaxation (the key of its job).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SampleJob<'a> {
+    pub recipe: SampleSpec,
+    pub model: &'a PairModel,
+    pub relax: RelaxConfig,
+}
+
+impl<'a> SampleJob<'a> {
+    /// The relaxed box of `cfg` for `model`.
+    pub fn new(cfg: &JunctionConfig, model: &'a PairModel) -> Self {
+        SampleJob {
+            recipe: recipe(cfg, model),
+            model,
+            relax: cfg.relax,
+        }
+    }
+
+    /// Relaxes the box into `dir` (`sample.json`; an interrupted relaxation resumes from its progress
+    /// file there): the job function of a samples cache.
+    pub fn relax_into(&self, dir: &Path, par: Parallelism) -> Result<SampleRecord> {
+        let t = std::time::Instant::now();
+        let p = ProgressFile::new(dir.join("relax.progress.json"));
+        let sample = make_sample_resumable(&self.recipe, self.model, &self.relax, par, Some(&p))?;
+        sample.save(&dir.join("sample.json"))?;
+        progress::remove(&p.path)?;
+        Ok(SampleRecord {
+            particles: sample.particles.len(),
+            seconds: t.elapsed().as_secs_f64(),
+            converged: sample.relaxation.as_ref().is_some_and(|r| r.converged),
+        })
+    }
+}
+
+/// The relaxed box of `cfg` for `model`, from the sample cache `samples` (relaxed and stored on first
+/// use; every D of a search shares it).
+pub fn relaxed_sample(
+    samples: &JobCache,
+    cfg: &JunctionConfig,
+    model: &PairModel,
+    par: Parallelism,
+) -> Result<(Sample, SampleRecord)> {
+    let job = SampleJob::new(cfg, model);
+    let one = RunJobs {
+        at_once: 1,
+        ..RunJobs::default()
+    };
+    let record = run_jobs(samples, std::slice::from_ref(&job), &one, |j, dir| {
+        j.relax_into(dir, par)
+    })?
+    .pop()
+    .flatten()
+    .expect("a whole-list run returns every result");
+    let dir = samples.dir(&JobCache::key(&job)?)?;
+    Ok((Sample::load(&dir.join("sample.json"))?, record))
+}
+
+/// The small record of a run that searches and reports keep (the rest stays in its folder).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct JunctionSummary {
+    pub diameter: f64,
+    pub d0: f64,
+    pub seed: u64,
+    pub outcome: Outcome,
+    pub turn: f64,
+    pub rigidity: f64,
+    pub force_late_over_peak: Option<f64>,
+    pub detachment: Option<Detachment>,
+    pub particles: usize,
+    pub junction_members: usize,
+    pub steps: u64,
+    pub dt: f64,
+    pub slide: f64,
+    pub run_seconds: f64,
+    pub relax_seconds: f64,
+}
+
+/// What `verdict.json` holds.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct VerdictFile {
+    pub outcome: Outcome,
+    pub evidence: wear::Verdict,
+    pub thresholds: wear::ClassifyParams,
+    pub junction: JunctionConfig,
+    pub units: Units,
+    pub length_unit: String,
+    /// Where the pair model came from.
+    pub material: String,
+    /// d* of eq 22 from the material's target properties, in the length unit.
+    pub dstar_eq22_target: f64,
+    /// The calibrated card's verification, when the material came from one (as the card has it).
+    pub card_verification: Option<serde_json::Value>,
+    pub summary: JunctionSummary,
+}
+
+/// Runs the junction of `cfg` with `material` into `out` (resumable: a progress file is kept there
+/// until the run is done), with relaxed samples from `samples`. `report(step, total)` follows the run.
+pub fn run_junction(
+    cfg: &JunctionConfig,
+    material: &ResolvedMaterial,
+    samples: &JobCache,
+    out: &Path,
+    par: Parallelism,
+    report: &mut dyn FnMut(u64, u64),
+) -> Result<JunctionSummary> {
+    std::fs::create_dir_all(out).map_err(|e| ValidationError::io(out, e))?;
+    let (sample, record) = relaxed_sample(samples, cfg, &material.model, par)?;
+    let progress = ProgressFile::new(out.join("junction.progress.json"));
+    let dump = (cfg.dump_frames > 0).then(|| out.join("junction.dump"));
+    let r = run_resumable(
+        &sample,
+        &material.model,
+        cfg,
+        par,
+        dump.as_deref(),
+        Some(&progress),
+        report,
+    )?;
+    let summary = JunctionSummary {
+        diameter: cfg.diameter,
+        d0: cfg.d0,
+        seed: cfg.seed,
+        outcome: r.outcome,
+        turn: r.verdict.turn,
+        rigidity: r.verdict.rigidity,
+        force_late_over_peak: r.verdict.force_late_over_peak,
+        detachment: r.verdict.detachment.clone(),
+        particles: r.particles,
+        junction_members: r.junction_members,
+        steps: r.steps,
+        dt: r.dt,
+        slide: r.slide,
+        run_seconds: r.wall_seconds,
+        relax_seconds: record.seconds,
+    };
+    write_outputs(out, cfg, material, &r, &summary)?;
+    progress::remove(&progress.path)?;
+    Ok(summary)
+}
+
+fn json(path: &Path, v: &impl Serialize) -> Result<()> {
+    let bytes = serde_json::to_vec_pretty(v).map_err(|e| ValidationError::Config {
+        path: path.display().to_string(),
+        reason: e.to_string(),
+    })?;
+    write_atomic(path, &bytes)?;
+    Ok(())
+}
+
+fn write_outputs(
+    out: &Path,
+    cfg: &JunctionConfig,
+    material: &ResolvedMaterial,
+    r: &JunctionResult,
+    summary: &JunctionSummary,
+) -> Result<()> {
+    let t = &material.target;
+    let dstar = wear::scales::critical_junction_size(
+        t.surface_energy,
+        t.young_modulus,
+        t.poisson_ratio,
+        t.shear_strength,
+    );
+    let verification = material
+        .card
+        .as_ref()
+        .and_then(|c| serde_json::to_value(c).ok())
+        .and_then(|v| v.get("verification").cloned());
+    let verdict = VerdictFile {
+        outcome: r.outcome,
+        evidence: r.verdict.clone(),
+        thresholds: cfg.classify,
+        junction: cfg.clone(),
+        units: material.units,
+        length_unit: material.units.length_name().into(),
+        material: material.description.clone(),
+        dstar_eq22_target: dstar,
+        card_verification: verification,
+        summary: summary.clone(),
+    };
+    json(&out.join("verdict.json"), &verdict)?;
+    json(&out.join("frames.json"), &r.frames)?;
+    let csv = out.join("force.csv");
+    let mut text = String::from("step,time,slide,force_x,force_y,force_z\n");
+    for s in &r.force {
+        text.push_str(&format!(
+            "{},{},{},{},{},{}\n",
+            s.step, s.time, s.displacement[0], s.force[0], s.force[1], s.force[2]
+        ));
+    }
+    write_atomic(&csv, text.as_bytes())?;
+    let units = match material.units {
+        Units::Nano => ("nm", "pN"),
+        Units::Reduced => ("length", "force"),
+    };
+    let axis_z = 0.5 * (r.first.lo[2] + r.first.hi[2]);
+    let views = [
+        (
+            &r.first,
+            format!("start: D = {} {}, d0 = {}", cfg.diameter, units.0, cfg.d0),
+        ),
+        (
+            &r.last,
+            format!("after {:.1} {} of sliding: {}", r.slide, units.0, r.outcome),
+        ),
+    ];
+    draw_snapshots(
+        &out.join("snapshot.png"),
+        views,
+        axis_z,
+        0.5 * cfg.diameter,
+        units.0,
+    )?;
+    draw_force(&out.join("force.png"), &r.force, units)?;
+    Ok(())
+}

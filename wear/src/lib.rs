@@ -1,0 +1,20 @@
+//! # wear: where MD and DEM results meet
+//!
+//! The adhesive-wear physics that both sides of the workbench share, as plain Rust with no engine and
+//! no Python in it, so that the DEM engine, the LAMMPS bridge and the validation report reach the same
+//! code:
+//! - [`scales`]: the length scales of paper 000, d_min (eq 19), d_c (eq 18) and the critical junction
+//!   size d* (eq 22, after Aghababaei et al. 2016);
+//! - [`outcome`]: the verdict on a sheared junction (plastic smoothing or a detached, rolling wear
+//!   particle) from the junction members' frames, the same decision for MD atoms and DEM particles;
+//! - [`dstar`]: the bisection on the junction size D between a plastic and a debris outcome, with
+//!   several seeds per D, that brackets d* from either side's runs.
+
+pub mod dstar;
+pub mod error;
+pub mod outcome;
+pub mod scales;
+
+pub use error::{Result, WearError};
+pub use outcome::{classify, ClassifyParams, Outcome, Verdict};
+pub use scales::LengthScales;
