@@ -4,7 +4,7 @@
 //! through the cache, the result does not depend on the thread count, a calibration stopped midway
 //! resumes to the same card bit for bit, the card carries its `[verification]` on fresh samples, and a
 //! trial under which the packing collapses is a failed evaluation with the reason. The acceptance
-//! runs at the sizes of issue 16 are `#[ignore]` (commands in docs/calibration.md).
+//! runs at the sizes of issue 16 are `#[ignore]` (`issue16_acceptance`; figures in docs/calibration.md).
 
 use std::path::{Path, PathBuf};
 
@@ -129,6 +129,21 @@ fn recipe_level_calibration_is_cached_thread_independent_resumable_and_verified(
     assert!(g > 0.0 && v.surface_energy.target == 1.5);
     let dstar = 32.0 * g * e / (2.0 * (1.0 + nu)) / (st * st);
     assert!((v.dstar - dstar).abs() <= 1e-12 * dstar);
+    // A scenario that takes the card (calibrate::source) states its verified figures.
+    let source = calibrate::MaterialSource {
+        card: Some(a.join("card.toml")),
+        ..Default::default()
+    };
+    let resolved = source
+        .resolve(&a, calibrate::Units::Reduced, card.model.law)
+        .unwrap();
+    assert_eq!(resolved.model, card.pair_model().unwrap());
+    assert!(
+        resolved.description.contains("verified on seeds [11, 12]")
+            && resolved.description.contains("d* (eq 22)"),
+        "{}",
+        resolved.description
+    );
 
     // Stopped after two iterations (what a kill leaves) and resumed on one thread: the same
     // trajectory and the same card, bit for bit.
@@ -212,4 +227,66 @@ fn verification_seeds_must_be_fresh() {
         .prepare()
         .unwrap_err();
     assert!(e.to_string().contains("never saw"), "{e}");
+}
+
+/// Issue 16's acceptance on a config of `configs/`: the calibration converges (no budget stop), and
+/// the card on its verification samples (fresh seeds, one twice as thick) gives E, nu, sigma_N,
+/// sigma_T within 5 % of target in the mean and within 10 % on each sample. Runs in
+/// `runs/<config stem>` so that a rerun resumes (`cgdem calibrate` on the same config and directory
+/// shares the work).
+fn issue16_acceptance(config_file: &str) {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
+    let cfg =
+        CalibrationConfig::from_toml(&std::fs::read_to_string(root.join(config_file)).unwrap())
+            .unwrap();
+    let stem = Path::new(config_file)
+        .file_stem()
+        .unwrap()
+        .to_string_lossy();
+    let out = root.join("runs").join(stem.as_ref());
+    let o = calibrate(&cfg, &out, Parallelism::Threads(2), None).unwrap();
+    let v = o.card.verification.as_ref().expect("[verification]");
+    let mut report = String::new();
+    for t in [
+        calibrate::Target::YoungModulus,
+        calibrate::Target::PoissonRatio,
+        calibrate::Target::TensileStrength,
+        calibrate::Target::ShearStrength,
+    ] {
+        let c = v.get(t);
+        report.push_str(&format!(
+            "{}: mean {:+.2} %, spread {:.2} %\n",
+            t.name(),
+            100.0 * c.mean_error(),
+            100.0 * c.spread
+        ));
+    }
+    eprintln!(
+        "{config_file}:\n{report}status {:?}",
+        o.card.provenance.status
+    );
+    assert_eq!(v.failures(), 0, "{:?}", v.samples);
+    assert_eq!(o.card.provenance.status, Status::Converged, "{report}");
+    for t in [
+        calibrate::Target::YoungModulus,
+        calibrate::Target::PoissonRatio,
+        calibrate::Target::TensileStrength,
+        calibrate::Target::ShearStrength,
+    ] {
+        let c = v.get(t);
+        assert!(c.mean_error().abs() <= 0.05, "{}: {report}", t.name());
+        assert!(c.spread <= 0.10, "{}: {report}", t.name());
+    }
+}
+
+#[test]
+#[ignore = "issue 16 acceptance, ~20 min on 2 cores (not met yet: docs/calibration.md)"]
+fn table4_amorphous_card_holds_on_fresh_samples() {
+    issue16_acceptance("configs/calibrate-amorphous.toml");
+}
+
+#[test]
+#[ignore = "issue 16 acceptance, over an hour on 2 cores (not met yet: docs/calibration.md)"]
+fn silica_card_holds_on_fresh_samples() {
+    issue16_acceptance("configs/calibrate-silica.toml");
 }
