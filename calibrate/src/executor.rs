@@ -837,7 +837,14 @@ impl<'a, P: Problem> Executor<'a, P> {
         let grown = if rho.is_some_and(|r| r >= 0.7) && hlen >= 0.9 * radius {
             (2.0 * radius).min(s.max_step)
         } else if rho.is_some_and(|r| r >= 0.1) {
-            radius
+            // A good step well inside the region: the region follows the step down (never below
+            // the noise floor), so that the points the model is fitted over come closer as the
+            // minimum nears and the fit's curvature bias goes with them.
+            if hlen < 0.5 * radius {
+                (2.0 * hlen).max(floor).min(radius)
+            } else {
+                radius
+            }
         } else if mt.is_none() {
             (0.5 * radius).max(s.min_radius)
         } else {
