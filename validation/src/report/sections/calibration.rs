@@ -232,7 +232,10 @@ fn run(ctx: &Context) -> Result<SectionOutput> {
                 Claim::new(
                     "workbench",
                     "verification",
-                    format!("{}: verified mean error on a fresh sample (relative)", t.name()),
+                    format!(
+                        "{}: verified mean error on a fresh sample (relative)",
+                        t.name()
+                    ),
                     0.0,
                     c.mean_error(),
                     tol,
