@@ -1,7 +1,21 @@
-//! The calibrated parameter card: everything needed to rebuild the calibrated [`PairModel`] and the
-//! sample it was calibrated on, what was measured, and where it came from. TOML; every `cgdem`
-//! scenario rebuilds its model with [`CalibratedCard::pair_model`] (or reads the `[model]` table, a
-//! plain serialised `PairModel`).
+//! The calibrated parameter card: everything needed to rebuild the calibrated [`PairModel`] and new
+//! samples of its recipe, what was measured during the calibration and on fresh samples afterwards,
+//! and where it came from. TOML. A scenario reads it with
+//!
+//! ```no_run
+//! # fn main() -> calibrate::Result<()> {
+//! let card = calibrate::CalibratedCard::read(std::path::Path::new("card.toml"))?;
+//! let model = card.pair_model()?; // dem::PairModel: material (engine units), law, multipliers
+//! if let Some(v) = &card.verification {
+//!     // Measured on samples the calibration never saw: mean and spread per property, and d*.
+//!     println!("E {} (spread {:.1} %), d* {}", v.young_modulus.mean, 100.0 * v.young_modulus.spread, v.dstar);
+//! }
+//! # Ok(()) }
+//! ```
+//!
+//! The `[model]` table is a plain serialised `PairModel`, so tools that do not link this crate can
+//! read it too. A card belongs to its *recipe* (`sample`, `relax`): relax a new sample of that recipe
+//! (any seed, any size) with the card's model and the verified figures hold for it.
 
 use std::path::Path;
 
@@ -14,6 +28,7 @@ use crate::config::SiMaterial;
 use crate::error::{CalibrateError, Result};
 use crate::executor::Status;
 use crate::patch_problem::{Properties, TestSettings};
+use crate::verification::Verification;
 
 /// Where the card came from.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -25,8 +40,11 @@ pub struct Provenance {
     pub status: Status,
     pub iterations: usize,
     pub evaluations: usize,
-    /// Wall time of the process that finished the calibration, s (a resumed run counts its own part).
+    /// Wall time of the process that finished the calibration, s (a resumed run counts its own part),
+    /// and of its verification (included).
     pub wall_seconds: f64,
+    #[serde(default)]
+    pub verification_seconds: f64,
     /// Free-text notes.
     pub notes: Vec<String>,
 }
@@ -34,25 +52,29 @@ pub struct Provenance {
 /// The card.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CalibratedCard {
-    /// Engine unit system: "reduced" or "nano" (nm, ns, ag; stress in MPa).
+    /// Engine unit system: "reduced" or "nano" (nm, ns, ag; stress in MPa, surface energy in mJ/m^2).
     pub units: String,
+    /// Seeds of the samples every evaluation of the calibration relaxed (empty for a lattice or a
+    /// file).
+    pub seeds: Vec<u64>,
     /// The calibrated model: material in engine units, law, switches, damping and multipliers.
     pub model: PairModel,
     /// The SI input, when the material was given in SI.
     #[serde(default)]
     pub material_si: Option<SiMaterial>,
-    /// Sample recipe (generated with the *first-guess* multipliers, as in the calibration) and the
-    /// saved sample file next to the card.
+    /// The sample recipe the card is calibrated for (seed: the first calibration sample's).
     pub sample: SampleSpec,
-    pub sample_file: String,
     pub relax: RelaxConfig,
     /// Patch-test settings of the calibration.
     pub tests: TestSettings,
-    /// Targets (strengths from eq 20 at the sample's d0), first-guess and calibrated measurements,
-    /// engine units.
+    /// Targets (strengths from eq 20 at the recipe's d0), and the means over the calibration samples
+    /// at the first guess and at the calibrated model, engine units.
     pub targets: Properties,
     pub uncalibrated: Properties,
     pub calibrated: Properties,
+    /// The calibrated model measured on fresh samples of the recipe (None if skipped).
+    #[serde(default)]
+    pub verification: Option<Verification>,
     pub provenance: Provenance,
 }
 

@@ -14,6 +14,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::{CalibrateError, Result};
 use crate::executor::Settings;
 use crate::patch_problem::{Target, TestSettings, Unknown};
+use crate::recipe::{recipe_samples, RecipeSettings, VerifySettings};
 
 /// Target properties in SI units: the `[material]` table of the card `cgdem md silica` writes
 /// (md-bridge/src/card.rs), plus the scaling exponent s.
@@ -120,8 +121,15 @@ pub struct CalibrationConfig {
     /// Force law; default cohesive (paper 000).
     #[serde(default = "cohesive")]
     pub law: ForceLaw,
-    /// Sample recipe (HCP, amorphous, or a saved file).
+    /// Sample recipe (HCP, amorphous, or a saved file); an amorphous recipe's seed is the first of
+    /// the calibration's seeds unless `[recipe] seeds` lists them.
     pub sample: SampleSpec,
+    /// Which samples of the recipe every evaluation relaxes; default see [`RecipeSettings`].
+    #[serde(default)]
+    pub recipe: RecipeSettings,
+    /// The fresh samples the card is verified on; default see [`VerifySettings`].
+    #[serde(default)]
+    pub verification: VerifySettings,
     /// Nominal diameter in metres (SI materials): replaces the recipe's d0_over_dc; default none.
     #[serde(default)]
     pub d0_m: Option<f64>,
@@ -169,7 +177,13 @@ pub struct Prepared {
     /// Poisson's ratio the area coefficients A_N, A_T are computed from, when not the target's.
     pub design_poisson_ratio: Option<f64>,
     pub units: UnitSystem,
+    /// The recipe (d0 resolved) and its distinct samples of every evaluation.
     pub sample: SampleSpec,
+    pub samples: Vec<SampleSpec>,
+    /// The calibration's seeds (empty for a lattice or a file).
+    pub seeds: Vec<u64>,
+    /// Nominal diameter of a generated recipe (engine units); a file's is read with the file.
+    pub d0: Option<f64>,
     pub targets: Vec<Target>,
     pub unknowns: Vec<Unknown>,
     pub tests: TestSettings,
@@ -282,6 +296,38 @@ impl CalibrationConfig {
                 }
             }
         }
+        let d0 = match &sample {
+            SampleSpec::Hcp { d0_over_dc, .. } | SampleSpec::Amorphous { d0_over_dc, .. } => {
+                Some(d0_over_dc * model.material.critical_diameter())
+            }
+            SampleSpec::File { .. } => None,
+        };
+        let seeds = match (sample.seed(), &self.recipe.seeds) {
+            (None, _) => Vec::new(),
+            (Some(_), Some(list)) => list.clone(),
+            (Some(s), None) => vec![s, s + 1, s + 2],
+        };
+        if sample.seed().is_some() && seeds.is_empty() {
+            return Err(CalibrateError::InvalidConfig(
+                "[recipe] seeds must name at least one seed".into(),
+            ));
+        }
+        if let Some(v) = self
+            .verification
+            .samples
+            .iter()
+            .find(|v| v.length == 1.0 && v.width == 1.0 && seeds.contains(&v.seed))
+        {
+            return Err(CalibrateError::InvalidConfig(format!(
+                "verification seed {} is also a calibration seed: the card must be verified on \
+                 samples the calibration never saw",
+                v.seed
+            )));
+        }
+        for v in &self.verification.samples {
+            sample.with_seed(v.seed).resized(v.length, v.width)?;
+        }
+        let samples = recipe_samples(&sample, &seeds);
         let mut tests = self.tests;
         if self.targets.contains(&Target::SurfaceEnergy) {
             // The surface energy needs the separated state (strength tests stop early otherwise).
@@ -293,6 +339,9 @@ impl CalibrationConfig {
             design_poisson_ratio: design,
             units,
             sample,
+            samples,
+            seeds,
+            d0,
             targets: self.targets.clone(),
             unknowns,
             tests,

@@ -26,6 +26,10 @@ pub enum CalibrateError {
         found: String,
         expected: String,
     },
+    /// Interrupted (Ctrl-C) between two rounds of evaluations: everything computed is on disk, and
+    /// the same command resumes.
+    #[error("interrupted; the evaluations so far are saved: rerun the same command to continue")]
+    Interrupted,
     /// Reading or writing a file failed.
     #[error("i/o error on {path}: {reason}")]
     Io { path: String, reason: String },

@@ -8,10 +8,15 @@
 //! - [`problem`]: the problem trait (residuals, optional Jacobian), argmin-style;
 //! - [`lm`]: the Levenberg-Marquardt step, solved as the augmented least-squares system
 //!   [J; sqrt(lambda) D] h = [-r; 0] with faer's QR (never the normal equations);
-//! - [`executor`]: the loop, stopping rules, observers, parallel finite-difference Jacobian, evaluation
-//!   cache and atomic per-iteration checkpoints (resumable, failed evaluations recorded and rejected);
+//! - [`trust_region`]: a derivative-free trust region on a regression model of the residuals, for
+//!   responses that are smooth in trend and noisy in detail (relaxed amorphous samples);
+//! - [`executor`]: the loop, stopping rules, observers, parallel finite differences or geometry
+//!   points on an explicit thread pool, evaluation cache and atomic per-iteration checkpoints
+//!   (resumable, failed evaluations recorded and rejected, the noise of sampled responses honoured);
+//! - [`recipe`]: the samples of the discretisation recipe every evaluation relaxes, cached by inputs;
 //! - [`patch_problem`]: unknowns ln(multiplier) on k_N, k_T, delta_e, delta_f, F_mT; residuals the
-//!   relative errors of E, nu, sigma_N, sigma_T (and gamma) from the patch tests on one fixed sample;
+//!   relative errors of the mean E, nu, sigma_N, sigma_T (and gamma) over the recipe's samples;
+//! - [`verification`]: the card measured on fresh samples (mean, spread, d* of eq 22);
 //! - [`config`]: the TOML input (engine or SI units), with unreachable targets refused up front;
 //! - [`card`]: the calibrated parameter card; [`run`]: the whole calibration with its output files;
 //! - [`source`]: where a scenario's material comes from (a preset, SI, engine units, an MD card, a card).
@@ -23,14 +28,19 @@ pub mod executor;
 pub mod lm;
 pub mod patch_problem;
 pub mod problem;
+pub mod recipe;
 pub mod run;
 pub mod source;
+pub mod trust_region;
+pub mod verification;
 
 pub use card::CalibratedCard;
 pub use config::{CalibrationConfig, CardRef, SiMaterial};
 pub use error::{CalibrateError, Result};
-pub use executor::{Checkpoint, Executor, Record, Settings, State, Status};
+pub use executor::{Checkpoint, Executor, Method, Record, Settings, State, Status};
 pub use patch_problem::{PatchProblem, Properties, Target, TestSettings, Unknown};
-pub use problem::{EvalFailure, Evaluation, Problem};
-pub use run::{calibrate, verify, Outcome};
+pub use problem::{EvalFailure, Evaluation, Measured, Problem};
+pub use recipe::{RecipeSettings, SampleCache, Variant, VerifySettings};
+pub use run::{calibrate, remeasure, verify_card, Outcome};
 pub use source::{MaterialSource, ResolvedMaterial, Units};
+pub use verification::{Check, Verification};

@@ -10,21 +10,31 @@
 //! - optionally the surface energy (half the potential-energy rise per area of the separated tensile
 //!   sample), target gamma: a fracture energy of 2 gamma.
 //!
-//! Every evaluation runs on the same sample (built once) with the same settings, and each patch test
-//! runs sequentially inside (the tests of one evaluation run side by side with rayon): the residuals
-//! are a deterministic, piecewise-smooth function of x.
+//! Recipe-level residuals (issue 16): every evaluation relaxes the k samples of the recipe (one per
+//! seed, [`crate::recipe`]) with the trial parameters and runs the tests on each; the residuals are
+//! those of the mean properties, and the standard error of the mean across the samples is the noise
+//! the solver works with ([`Measured`]). Each relaxation and each patch test runs sequentially and the
+//! samples and tests of an evaluation run side by side on the caller's rayon pool (the executor's,
+//! sized by `--threads`), collected in order: the residuals are a deterministic function of x, the
+//! same bits for any thread count, and piecewise smooth (a relaxed packing changes by jumps as the
+//! parameters move).
+//!
+//! A sample whose relaxation fails under the trial model, or a test that fails on it, makes the whole
+//! evaluation a failure with that reason (never a number).
 
-use std::borrow::Cow;
+use std::sync::Arc;
 
 use dem::material::{Material, PairModel, ParamScale};
-use dem::sample::{relax, RelaxConfig, Sample};
+use dem::sample::{RelaxConfig, Sample, SampleSpec};
 use dem::scenario::patch::{
     elastic, strength, target_strength, ElasticConfig, StrengthConfig, StrengthMode,
 };
 use dem::Parallelism;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::problem::{EvalFailure, Evaluation, Problem};
+use crate::problem::{EvalFailure, Evaluation, Measured, Problem};
+use crate::recipe::{describe, SampleCache};
 
 /// A calibrated property.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -136,13 +146,6 @@ pub struct TestSettings {
     pub tensile: StrengthConfig,
     /// Default: the paper's shear test, recorded every 20 steps, stopped 0.05 past the peak.
     pub shear: StrengthConfig,
-    /// Re-equilibrate the fixed sample with each evaluation's model before the tests (phase 2 of
-    /// the relaxation only: cohesive normal forces, box relaxed to zero stress, from the saved
-    /// positions); default none (the tests start from the saved sample as it is). An amorphous sample
-    /// relaxed with the first guess is not at rest under other delta_e, delta_f: its pre-stretched
-    /// pairs carry other forces, the tests start with a relaxation under load, and the measured
-    /// properties jump with the parameters. See docs/calibration.md.
-    pub reequilibrate: Option<RelaxConfig>,
 }
 
 impl Default for TestSettings {
@@ -156,15 +159,22 @@ impl Default for TestSettings {
             elastic: ElasticConfig::default(),
             tensile: short(StrengthMode::Tensile),
             shear: short(StrengthMode::Shear),
-            reequilibrate: None,
         }
     }
 }
 
-/// The problem: a fixed sample, a base model (material, law, start multipliers) and the selection.
-#[derive(Debug, Clone)]
+/// The problem: the recipe's samples, a base model (material, law, start multipliers) and the
+/// selection of targets and unknowns.
+#[derive(Debug)]
 pub struct PatchProblem {
-    pub sample: Sample,
+    /// The distinct samples of every evaluation (the recipe with each seed).
+    pub samples: Vec<SampleSpec>,
+    /// How amorphous samples are relaxed.
+    pub relax: RelaxConfig,
+    /// Relaxed samples by their inputs.
+    pub cache: SampleCache,
+    /// Nominal particle diameter of the recipe (engine units): the strength targets of eq (20).
+    pub d0: f64,
     /// Base model (first guess); its material may carry a design Poisson's ratio.
     pub model: PairModel,
     /// Target properties.
@@ -184,17 +194,9 @@ impl PatchProblem {
         m
     }
 
-    /// Target value of `t` for this sample (strengths from eq 20 at the sample's d0).
+    /// Target value of `t` for this recipe (strengths from eq 20 at the recipe's d0).
     pub fn target(&self, t: Target) -> f64 {
-        let m = &self.target;
-        let (d0, dc) = (self.sample.d0, m.critical_diameter());
-        match t {
-            Target::YoungModulus => m.young_modulus,
-            Target::PoissonRatio => m.poisson_ratio,
-            Target::TensileStrength => target_strength(m.tensile_strength, d0, dc, m.scaling),
-            Target::ShearStrength => target_strength(m.shear_strength, d0, dc, m.scaling),
-            Target::SurfaceEnergy => m.surface_energy,
-        }
+        target_value(&self.target, self.d0, t)
     }
 
     /// Scale of the relative error: the target, or 0.05 for a Poisson's ratio near zero (a relative
@@ -220,7 +222,8 @@ impl PatchProblem {
             .collect()
     }
 
-    /// Measured properties back from residuals (the inverse of [`Self::residuals_of`]).
+    /// Measured properties back from residuals (the inverse of [`Self::residuals_of`]; of the mean
+    /// residuals, the mean properties).
     pub fn properties_of(&self, r: &[f64]) -> Properties {
         let mut p = Properties::default();
         for (&t, v) in self.targets.iter().zip(r) {
@@ -229,89 +232,113 @@ impl PatchProblem {
         p
     }
 
-    /// The sample the tests of `model` run on: the fixed sample, re-equilibrated with `model` when
-    /// the settings ask for it (deterministic: same model, same bits).
-    pub fn sample_for(&self, model: &PairModel) -> Result<Cow<'_, Sample>, EvalFailure> {
-        match &self.tests.reequilibrate {
-            None => Ok(Cow::Borrowed(&self.sample)),
-            Some(rc) => {
-                let s = relax(&self.sample, model, rc, Parallelism::Sequential)
-                    .map_err(|e| EvalFailure(format!("re-equilibration: {e}")))?;
-                match &s.relaxation {
-                    Some(r) if !r.converged => Err(EvalFailure(format!(
-                        "re-equilibration did not reach {:.0e} E in {} steps",
-                        rc.stress_tolerance, r.phase2_steps
-                    ))),
-                    _ => Ok(Cow::Owned(s)),
-                }
-            }
-        }
+    /// The sample `spec` relaxed with `model` (cached).
+    pub fn sample(&self, spec: &SampleSpec, model: &PairModel) -> Result<Arc<Sample>, EvalFailure> {
+        self.cache.get(spec, model, &self.relax)
     }
 
-    /// Runs the patch tests the targets need with `model` (each test sequential, the tests side by
-    /// side), on [`Self::sample_for`] `model`.
-    pub fn measure(&self, model: &PairModel) -> Result<Properties, EvalFailure> {
-        let sample = self.sample_for(model)?;
-        self.measure_on(&sample, model)
+    /// Each sample's properties under `model`: the samples relaxed (or taken from the cache) and
+    /// tested side by side, in the order of [`Self::samples`]. The first failure, in that order, is
+    /// the evaluation's.
+    pub fn measure(&self, model: &PairModel) -> Result<Vec<Properties>, EvalFailure> {
+        self.samples
+            .par_iter()
+            .with_max_len(1)
+            .map(|spec| {
+                let sample = self.sample(spec, model)?;
+                measure_on(&sample, model, &self.targets, &self.tests)
+                    .map(|m| m.properties)
+                    .map_err(|EvalFailure(e)| EvalFailure(format!("{}: {e}", describe(spec))))
+            })
+            .collect::<Vec<_>>()
+            .into_iter()
+            .collect()
     }
+}
 
-    /// [`Self::measure`] on a given sample.
-    pub fn measure_on(
-        &self,
-        sample: &Sample,
-        model: &PairModel,
-    ) -> Result<Properties, EvalFailure> {
-        let wants = |ts: &[Target]| self.targets.iter().any(|t| ts.contains(t));
-        let seq = Parallelism::Sequential;
-        let fail = |what: &str, e: dem::DemError| EvalFailure(format!("{what} test: {e}"));
-        let el = || {
-            wants(&[Target::YoungModulus, Target::PoissonRatio])
-                .then(|| elastic(sample, model, &self.tests.elastic, seq))
-                .transpose()
-                .map_err(|e| fail("elastic", e))
-        };
-        let te = || {
-            wants(&[Target::TensileStrength, Target::SurfaceEnergy])
-                .then(|| strength(sample, model, &self.tests.tensile, seq))
-                .transpose()
-                .map_err(|e| fail("tensile", e))
-        };
-        let sh = || {
-            wants(&[Target::ShearStrength])
-                .then(|| strength(sample, model, &self.tests.shear, seq))
-                .transpose()
-                .map_err(|e| fail("shear", e))
-        };
-        let (el, (te, sh)) = rayon::join(el, || rayon::join(te, sh));
-        let (el, te, sh) = (el?, te?, sh?);
-        let mut p = Properties::default();
-        if let Some(e) = el {
-            if !e.converged {
-                return Err(EvalFailure(format!(
-                    "elastic test did not come to rest in {} steps",
-                    e.steps
-                )));
-            }
-            // A sample that is not at rest under the trial parameters can contract or rearrange
-            // during the test; a non-positive E or a nu outside (-1, 1/2) is no measurement.
-            if !(e.young_modulus > 0.0 && e.poisson_ratio > -1.0 && e.poisson_ratio < 0.5) {
-                return Err(EvalFailure(format!(
-                    "elastic test gave E = {:.3e}, nu = {:.3} (sample not at rest?)",
-                    e.young_modulus, e.poisson_ratio
-                )));
-            }
-            p.young_modulus = Some(e.young_modulus);
-            p.poisson_ratio = Some(e.poisson_ratio);
-        }
-        if let Some(t) = te {
-            p.tensile_strength = Some(t.strength);
-            p.surface_energy = t.fracture.map(|f| f.surface_energy);
-        }
-        if let Some(s) = sh {
-            p.shear_strength = Some(s.strength);
-        }
-        Ok(p)
+/// Target value of `t` for `material` and particles of diameter `d0` (strengths from eq 20).
+pub fn target_value(m: &Material, d0: f64, t: Target) -> f64 {
+    let dc = m.critical_diameter();
+    match t {
+        Target::YoungModulus => m.young_modulus,
+        Target::PoissonRatio => m.poisson_ratio,
+        Target::TensileStrength => target_strength(m.tensile_strength, d0, dc, m.scaling),
+        Target::ShearStrength => target_strength(m.shear_strength, d0, dc, m.scaling),
+        Target::SurfaceEnergy => m.surface_energy,
     }
+}
+
+/// What the tests of one sample gave.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Measurement {
+    pub properties: Properties,
+    /// Whether the tensile test separated the sample (None: no tensile test).
+    pub separated: Option<bool>,
+}
+
+/// Runs the patch tests `targets` need with `model` on `sample` (each test sequential, the tests side
+/// by side on the current rayon pool).
+pub fn measure_on(
+    sample: &Sample,
+    model: &PairModel,
+    targets: &[Target],
+    tests: &TestSettings,
+) -> Result<Measurement, EvalFailure> {
+    let wants = |ts: &[Target]| targets.iter().any(|t| ts.contains(t));
+    let seq = Parallelism::Sequential;
+    let fail = |what: &str, e: dem::DemError| EvalFailure(format!("{what} test: {e}"));
+    let el = || {
+        wants(&[Target::YoungModulus, Target::PoissonRatio])
+            .then(|| elastic(sample, model, &tests.elastic, seq))
+            .transpose()
+            .map_err(|e| fail("elastic", e))
+    };
+    let te = || {
+        wants(&[Target::TensileStrength, Target::SurfaceEnergy])
+            .then(|| strength(sample, model, &tests.tensile, seq))
+            .transpose()
+            .map_err(|e| fail("tensile", e))
+    };
+    let sh = || {
+        wants(&[Target::ShearStrength])
+            .then(|| strength(sample, model, &tests.shear, seq))
+            .transpose()
+            .map_err(|e| fail("shear", e))
+    };
+    let (el, (te, sh)) = rayon::join(el, || rayon::join(te, sh));
+    let (el, te, sh) = (el?, te?, sh?);
+    let mut p = Properties::default();
+    let mut separated = None;
+    if let Some(e) = el {
+        if !e.converged {
+            return Err(EvalFailure(format!(
+                "elastic test did not come to rest in {} steps",
+                e.steps
+            )));
+        }
+        // A sample that is not at rest under the trial parameters can contract or rearrange
+        // during the test; a non-positive E or a nu outside (-1, 1/2) is no measurement.
+        if !(e.young_modulus > 0.0 && e.poisson_ratio > -1.0 && e.poisson_ratio < 0.5) {
+            return Err(EvalFailure(format!(
+                "elastic test gave E = {:.3e}, nu = {:.3} (sample not at rest?)",
+                e.young_modulus, e.poisson_ratio
+            )));
+        }
+        p.young_modulus = Some(e.young_modulus);
+        p.poisson_ratio = Some(e.poisson_ratio);
+    }
+    if let Some(t) = te {
+        p.tensile_strength = Some(t.strength);
+        p.surface_energy = t.fracture.map(|f| f.surface_energy);
+        separated = t.fracture.map(|f| f.separated);
+    }
+    if let Some(s) = sh {
+        p.shear_strength = Some(s.strength);
+    }
+    Ok(Measurement {
+        properties: p,
+        separated,
+    })
 }
 
 impl Problem for PatchProblem {
@@ -322,11 +349,26 @@ impl Problem for PatchProblem {
         self.targets.iter().map(|t| t.name().to_string()).collect()
     }
     fn residuals(&self, x: &[f64]) -> Evaluation {
+        self.evaluate(x).map(|m| m.r)
+    }
+    fn evaluate(&self, x: &[f64]) -> Result<Measured, EvalFailure> {
         let model = self.model_at(x);
         model
             .validate()
             .map_err(|e| EvalFailure(format!("model: {e}")))?;
-        let p = self.measure(&model)?;
-        self.residuals_of(&p)
+        let rows = self
+            .measure(&model)?
+            .iter()
+            .map(|p| self.residuals_of(p))
+            .collect::<Result<Vec<_>, _>>()?;
+        let m = Measured::mean_of(rows);
+        tracing::info!(
+            x = ?x,
+            r = ?m.r,
+            noise = ?m.noise,
+            samples = m.samples.len(),
+            "evaluation"
+        );
+        Ok(m)
     }
 }

@@ -199,14 +199,49 @@ impl MaterialSource {
             target,
             units,
             description: format!(
-                "calibrated card {} ({:?} after {} iterations)",
+                "calibrated card {} ({:?} after {} iterations){}",
                 path.display(),
                 card.provenance.status,
-                card.provenance.iterations
+                card.provenance.iterations,
+                card.verification
+                    .as_ref()
+                    .map_or(String::from("; not verified on fresh samples"), |v| {
+                        format!("; {}", verified_figures(v, units))
+                    })
             ),
             card: Some(card),
         })
     }
+}
+
+/// The card's verification in one line, for a scenario to print beside its results: each property's
+/// mean and spread on the fresh samples, the surface energy and d* of eq 22 from the measured values.
+pub fn verified_figures(v: &crate::verification::Verification, units: Units) -> String {
+    use crate::patch_problem::Target;
+    let mut s = format!("verified on seeds {:?}:", v.seeds);
+    for t in [
+        Target::YoungModulus,
+        Target::PoissonRatio,
+        Target::TensileStrength,
+        Target::ShearStrength,
+        Target::SurfaceEnergy,
+    ] {
+        let c = v.get(t);
+        s.push_str(&format!(
+            " {} {} ({:+.1} %, spread {:.1} %),",
+            t.name(),
+            dem::io::Sig(c.mean, 4),
+            100.0 * c.mean_error(),
+            100.0 * c.spread
+        ));
+    }
+    s.push_str(&format!(
+        " d* (eq 22) {} {} (targets: {})",
+        dem::io::Sig(v.dstar, 4),
+        units.length_name(),
+        dem::io::Sig(v.dstar_target, 4)
+    ));
+    s
 }
 
 #[cfg(test)]

@@ -1,13 +1,15 @@
 //! `cgdem calibrate <calibration.toml> --out DIR`: least-squares calibration of the pair parameters
-//! against the patch tests (crate `calibrate`, issue 5). Resumable: rerun the same command after a kill
-//! and it continues from `DIR/checkpoint.json`. Writes `card.toml` (the calibrated parameter card),
-//! `history.json`, `history.csv`, `sample.json`, `patch.toml` (re-runs the patch tests with
-//! `cgdem patch`) and `summary.txt`.
+//! against the patch tests on the recipe's samples (crate `calibrate`, issues 5 and 16), then the
+//! card's verification on fresh samples. Resumable: rerun the same command after a kill or a Ctrl-C
+//! and it continues from `DIR/checkpoint.json` (evaluations in `DIR/evals/`, relaxed samples in
+//! `DIR/samples/`, verification samples in `DIR/verify/`). Writes `card.toml` (the calibrated card,
+//! with its `[verification]` table), `history.json`, `history.csv`, `patch.toml` (re-measures the card
+//! with `cgdem patch` on a sample of its recipe), `summary.txt` and `calibration.png`.
 
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
-use calibrate::{CalibrationConfig, Properties, Target};
+use calibrate::{CalibrationConfig, Properties, Target, Verification};
 use clap::Args;
 
 /// Arguments of `cgdem calibrate`.
@@ -20,33 +22,41 @@ pub struct CalibrateArgs {
     pub out: PathBuf,
 }
 
-/// The summary table: target, uncalibrated, calibrated (and verified) values with relative errors.
+const ALL: [Target; 5] = [
+    Target::YoungModulus,
+    Target::PoissonRatio,
+    Target::TensileStrength,
+    Target::ShearStrength,
+    Target::SurfaceEnergy,
+];
+
+/// The summary table: target, uncalibrated and calibrated means over the calibration samples, and
+/// the verification on fresh samples (mean, its error, spread = largest error of one sample).
 pub(crate) fn table(
     targets: &Properties,
     before: &Properties,
     after: &Properties,
-    verified: Option<&Properties>,
+    verified: Option<&Verification>,
 ) -> String {
     let mut s = format!(
         "{:<17} {:>12} {:>12} {:>8} {:>12} {:>8}",
         "property", "target", "uncalibrated", "error", "calibrated", "error"
     );
     if verified.is_some() {
-        s.push_str(&format!(" {:>12} {:>8}", "verified", "error"));
+        s.push_str(&format!(
+            " {:>12} {:>8} {:>8}",
+            "verified", "error", "spread"
+        ));
     }
     s.push('\n');
-    let err = |v: Option<f64>, t: f64| {
-        v.map_or("-".to_string(), |v| format!("{:+.2}%", 100.0 * (v - t) / t))
-    };
+    let pct = |e: f64| format!("{:+.2}%", 100.0 * e);
+    let err = |v: Option<f64>, t: f64| v.map_or("-".to_string(), |v| pct((v - t) / t));
     let val = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.5e}"));
-    for t in [
-        Target::YoungModulus,
-        Target::PoissonRatio,
-        Target::TensileStrength,
-        Target::ShearStrength,
-        Target::SurfaceEnergy,
-    ] {
-        let Some(tv) = targets.get(t) else { continue };
+    for t in ALL {
+        let check = verified.map(|v| v.get(t));
+        let Some(tv) = targets.get(t).or(check.map(|c| c.target)) else {
+            continue;
+        };
         s.push_str(&format!(
             "{:<17} {:>12} {:>12} {:>8} {:>12} {:>8}",
             t.name(),
@@ -56,10 +66,47 @@ pub(crate) fn table(
             val(after.get(t)),
             err(after.get(t), tv)
         ));
-        if let Some(v) = verified {
-            s.push_str(&format!(" {:>12} {:>8}", val(v.get(t)), err(v.get(t), tv)));
+        if let Some(c) = check {
+            s.push_str(&format!(
+                " {:>12} {:>8} {:>8}",
+                format!("{:.5e}", c.mean),
+                pct(c.mean_error()),
+                format!("{:.2}%", 100.0 * c.spread)
+            ));
         }
         s.push('\n');
+    }
+    s
+}
+
+/// The verification's samples, failures and d*, under the table.
+pub(crate) fn verification_lines(v: &Verification, units: &str) -> String {
+    let length = if units == "nano" {
+        "nm"
+    } else {
+        "length units"
+    };
+    let mut s = format!(
+        "verified on {} fresh sample(s) (seeds {:?}): d* (eq 22) {:.4e} {length} from the measured \
+         means, {:.4e} {length} from the targets\n",
+        v.samples.len(),
+        v.seeds,
+        v.dstar,
+        v.dstar_target
+    );
+    for sample in &v.samples {
+        s.push_str(&format!(
+            "  {}: {} particles, vf {:.4}{}\n",
+            calibrate::recipe::describe(&sample.spec),
+            sample.particles,
+            sample.volume_fraction,
+            match (&sample.failure, sample.separated) {
+                (Some(f), _) => format!(", FAILED: {f}"),
+                (None, true) => String::new(),
+                (None, false) =>
+                    ", tensile test not separated (surface energy a lower bound)".into(),
+            }
+        ));
     }
     s
 }
@@ -81,30 +128,41 @@ pub(crate) fn run_config(
         c.model.scale.delta_f,
         c.model.scale.f_mt
     );
-    let text = format!(
-        "{}\n{multipliers}\nstatus {:?}, {} iterations, {} evaluations, {:.1} s (this process)\n",
-        table(&c.targets, &c.uncalibrated, &c.calibrated, None),
+    let mut text = format!(
+        "{}\n{multipliers}\nstatus {:?}, {} iterations, {} evaluations ({} sample(s) each), {:.1} s (this process)\n",
+        table(
+            &c.targets,
+            &c.uncalibrated,
+            &c.calibrated,
+            c.verification.as_ref()
+        ),
         c.provenance.status,
         c.provenance.iterations,
         c.provenance.evaluations,
+        o.problem.samples.len(),
         c.provenance.wall_seconds
     );
+    if let Some(v) = &c.verification {
+        text.push_str(&verification_lines(v, &c.units));
+    }
     print!("{text}");
     std::fs::write(out.join("summary.txt"), &text).context("writing summary.txt")?;
     println!("card: {}", out.join("card.toml").display());
-    draw_figure(&o, None, &out.join("calibration.png"))?;
+    draw_figure(&o, &out.join("calibration.png"))?;
     Ok(o)
 }
 
-/// Draws `calibration.png` (errors before and after, and the cost per iteration).
-pub(crate) fn draw_figure(
-    o: &calibrate::Outcome,
-    verified: Option<&calibrate::Properties>,
-    path: &Path,
-) -> Result<()> {
+/// Draws `calibration.png` (errors before and after, verified, and the cost per iteration).
+pub(crate) fn draw_figure(o: &calibrate::Outcome, path: &Path) -> Result<()> {
     use validation::figures::calibration::{cost_series, draw, error_rows};
     let c = &o.card;
-    let rows = error_rows(&c.targets, &c.uncalibrated, &c.calibrated, verified);
+    let verified = c.verification.as_ref().map(Verification::means);
+    let rows = error_rows(
+        &c.targets,
+        &c.uncalibrated,
+        &c.calibrated,
+        verified.as_ref(),
+    );
     draw(path, &rows, &cost_series(&o.checkpoint.history))
         .context("drawing the calibration figure (the card above is complete)")?;
     println!("figure: {}", path.display());

@@ -14,7 +14,7 @@ use clap::Args;
 use dem::material::{Material, PairModel, ParamScale};
 use dem::sample::RelaxConfig;
 use dem::sample::{make_sample_resumable, SampleSpec};
-use dem::scenario::patch::{run_suite, PatchSuite, ProgressFile};
+use dem::scenario::patch::{run_suite, ModelSource, PatchSuite, ProgressFile};
 use serde::Deserialize;
 
 /// Arguments of `cgdem patch`.
@@ -25,6 +25,14 @@ pub struct PatchArgs {
     /// Output directory.
     #[arg(long, default_value = "out/patch")]
     pub out: PathBuf,
+    /// A calibrated card (`cgdem calibrate` writes `card.toml`): its pair model replaces the
+    /// campaign's `material` and `scale` (same as `[model] card = "FILE"` in the campaign).
+    #[arg(long)]
+    pub card: Option<PathBuf>,
+    /// The seed of the campaign's amorphous sample recipe (re-measure a card on a sample of one's
+    /// choosing).
+    #[arg(long)]
+    pub seed: Option<u64>,
 }
 
 /// Arguments of `cgdem sample`.
@@ -61,9 +69,42 @@ fn read_toml<T: serde::de::DeserializeOwned>(path: &std::path::Path) -> Result<T
     crate::config::read(path)
 }
 
+/// The campaign of `args`: its file, with the card's pair model read in (`--card`, or `[model] card`
+/// relative to the campaign's folder) and the seed replaced.
+fn campaign(args: &PatchArgs) -> Result<PatchSuite> {
+    let mut suite: PatchSuite = read_toml(&args.config)?;
+    let card = match (&args.card, &suite.model) {
+        (Some(path), _) => Some(path.clone()),
+        (None, Some(m)) => Some(
+            args.config
+                .parent()
+                .unwrap_or(std::path::Path::new("."))
+                .join(&m.card),
+        ),
+        (None, None) => None,
+    };
+    if let Some(path) = card {
+        let c = calibrate::CalibratedCard::read(&path)
+            .with_context(|| format!("reading the card {}", path.display()))?;
+        suite.model = Some(ModelSource {
+            card: path,
+            pair_model: Some(c.pair_model()?),
+        });
+    }
+    if let Some(seed) = args.seed {
+        if suite.sample.seed().is_none() {
+            anyhow::bail!(
+                "--seed needs an amorphous [sample] recipe (a lattice or a file has no seed)"
+            );
+        }
+        suite.sample = suite.sample.with_seed(seed);
+    }
+    Ok(suite)
+}
+
 /// Runs `cgdem patch`.
 pub fn run(args: PatchArgs, threads: usize) -> Result<()> {
-    let suite: PatchSuite = read_toml(&args.config)?;
+    let suite = campaign(&args)?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     let report = run_suite(&suite, Some(&args.out), crate::parallelism(threads))?;
@@ -173,7 +214,9 @@ mod tests {
         assert!(run(
             PatchArgs {
                 config: bad.clone(),
-                out
+                out,
+                card: None,
+                seed: None,
             },
             1
         )

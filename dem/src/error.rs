@@ -40,6 +40,10 @@ pub enum DemError {
         index: usize,
         what: &'static str,
     },
+    /// The two-phase relaxation of an amorphous sample failed under the given pair model (its stresses
+    /// grew to the order of E instead of decaying): no sample, with the reason.
+    #[error("relaxation failed at phase-2 step {step}: {reason}")]
+    RelaxationFailed { step: u64, reason: String },
     /// The run was interrupted (Ctrl-C) before this step; the state is that of the end of the previous step.
     #[error("interrupted at step {step}")]
     Interrupted { step: u64 },

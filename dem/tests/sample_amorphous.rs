@@ -187,3 +187,55 @@ fn a_looser_insertion_leaves_holes() {
     );
     assert!((loose.coordination.interacting - dense.coordination.interacting).abs() < 1.0);
 }
+
+/// A pair model under which the packing collapses (delta_e x 2.05 with delta_f x 0.96: every pair is
+/// Hookean up to delta_f, the stage-3 multipliers of docs/calibration.md) is stopped early with the
+/// reason, not returned as a sample; the same insertion relaxes normally with delta_e x 1.77.
+#[test]
+fn a_collapsing_relaxation_fails_early_with_the_reason() {
+    let mat = Material::table4(0.15);
+    let mut model = PairModel::cohesive(mat.clone());
+    model.scale = dem::ParamScale {
+        k_n: 0.8079,
+        k_t: 0.8604,
+        delta_e: 2.0454,
+        delta_f: 0.961,
+        f_mt: 0.75,
+    };
+    let mut ins = insertion(&mat, 0.6, 10.0, 1);
+    ins.lengths.z *= 3.2 / 3.0;
+    let cfg = RelaxConfig::default();
+    let e = amorphous(&ins, &model, &cfg, Parallelism::Sequential).unwrap_err();
+    match &e {
+        dem::DemError::RelaxationFailed { step, reason } => {
+            // Caught within a few thousand phase-2 steps (the 200 000-step budget would take minutes).
+            assert!(*step < 5_000, "{e}");
+            assert!(reason.contains("fail_stress"), "{e}");
+        }
+        other => panic!("expected a failed relaxation, got {other}"),
+    }
+    model.scale.delta_e = 1.771;
+    let ok = amorphous(&ins, &model, &cfg, Parallelism::Sequential).unwrap();
+    assert!(ok.relaxation.unwrap().converged);
+}
+
+/// The relaxation switches the tangential force off in both phases, so the tangential multipliers
+/// (k_T, F_mT) and the shear strength cannot change a relaxed sample: calibrate's cache of relaxed
+/// samples relies on it to share one sample among trial models that differ only there.
+#[test]
+fn relaxation_ignores_the_tangential_parameters() {
+    let mat = Material::table4(0.15);
+    let model = PairModel::cohesive(mat.clone());
+    let ins = insertion(&mat, 0.6, 6.0, 5);
+    let cfg = RelaxConfig::default();
+    let a = amorphous(&ins, &model, &cfg, Parallelism::Sequential).unwrap();
+    let mut other = model.clone();
+    other.scale.k_t = 1.7;
+    other.scale.f_mt = 0.4;
+    other.material.shear_strength *= 0.5;
+    let b = amorphous(&ins, &other, &cfg, Parallelism::Sequential).unwrap();
+    assert!(
+        a.particles == b.particles && a.sim_box == b.sim_box,
+        "tangential parameters changed the relaxed sample"
+    );
+}

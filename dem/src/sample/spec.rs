@@ -147,6 +147,56 @@ impl SampleSpec {
         }
         Ok(s)
     }
+
+    /// The same recipe drawn with another seed (an HCP lattice or a saved file has none: unchanged).
+    pub fn with_seed(&self, v: u64) -> SampleSpec {
+        let mut s = self.clone();
+        if let SampleSpec::Amorphous { seed, .. } = &mut s {
+            *seed = v;
+        }
+        s
+    }
+
+    /// The seed of an amorphous recipe.
+    pub fn seed(&self) -> Option<u64> {
+        match self {
+            SampleSpec::Amorphous { seed, .. } => Some(*seed),
+            _ => None,
+        }
+    }
+
+    /// The same recipe with the in-plane edge L and the thickness W multiplied by `length` and
+    /// `width` (a larger sample of the same material and discretisation); a saved file cannot grow.
+    pub fn resized(&self, length: f64, width: f64) -> Result<SampleSpec> {
+        if !(length.is_finite() && length > 0.0 && width.is_finite() && width > 0.0) {
+            return Err(DemError::InvalidConfig(format!(
+                "sample size factors must be positive (length {length}, width {width})"
+            )));
+        }
+        let mut s = self.clone();
+        match &mut s {
+            SampleSpec::Hcp {
+                l_over_d0,
+                w_over_d0,
+                ..
+            }
+            | SampleSpec::Amorphous {
+                l_over_d0,
+                w_over_d0,
+                ..
+            } => {
+                *l_over_d0 *= length;
+                *w_over_d0 *= width;
+            }
+            SampleSpec::File { .. } if length == 1.0 && width == 1.0 => {}
+            SampleSpec::File { .. } => {
+                return Err(DemError::InvalidConfig(
+                    "a saved sample cannot be resized; give a generated recipe".into(),
+                ))
+            }
+        }
+        Ok(s)
+    }
 }
 
 #[cfg(test)]
@@ -174,5 +224,33 @@ mod tests {
         assert!(serde_json::to_string(&spec)
             .unwrap()
             .contains("\"insert_fraction\":0.5"));
+    }
+
+    #[test]
+    fn seeds_and_sizes_change_only_what_they_name() {
+        let json =
+            r#"{"kind": "amorphous", "d0_over_dc": 0.6, "l_over_d0": 10.0, "w_over_d0": 3.0}"#;
+        let spec: SampleSpec = serde_json::from_str(json).unwrap();
+        assert_eq!(spec.seed(), Some(1));
+        let other = spec.with_seed(7).resized(1.0, 2.0).unwrap();
+        match other {
+            SampleSpec::Amorphous {
+                seed,
+                l_over_d0,
+                w_over_d0,
+                d0_over_dc,
+                ..
+            } => assert_eq!(
+                (seed, l_over_d0, w_over_d0, d0_over_dc),
+                (7, 10.0, 6.0, 0.6)
+            ),
+            _ => panic!(),
+        }
+        assert!(spec.resized(0.0, 1.0).is_err());
+        let file = SampleSpec::File {
+            path: "s.json".into(),
+        };
+        assert_eq!(file.with_seed(3), file);
+        assert!(file.resized(2.0, 1.0).is_err() && file.resized(1.0, 1.0).is_ok());
     }
 }

@@ -208,6 +208,7 @@ mod tests {
             iteration,
             x_trial: vec![],
             r_trial: None,
+            noise_trial: vec![],
             failure: None,
             cost,
             cost_trial: trial,

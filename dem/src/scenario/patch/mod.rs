@@ -33,7 +33,7 @@ pub use elastic::{elastic, ElasticConfig, ElasticResult};
 pub use strength::{
     strength, strength_resumable, FractureResult, StrengthConfig, StrengthMode, StrengthResult,
 };
-pub use suite::{run_suite, PatchReport, PatchSuite};
+pub use suite::{run_suite, ModelSource, PatchReport, PatchSuite};
 
 /// The two rigid walls of every patch test.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

@@ -36,16 +36,34 @@ pub struct Sweep {
     pub scaling: Vec<f64>,
 }
 
+/// `[model]`: the pair model of a calibrated card (what `cgdem calibrate` writes) instead of
+/// `material` and `scale`, to re-measure the card on a sample of one's choosing.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModelSource {
+    /// The card file; a relative path is taken from the campaign file's folder.
+    pub card: PathBuf,
+    /// The card's `[model]` table, filled in by whoever reads the card (`cgdem patch`), so that the
+    /// report records the model the tests ran with; a campaign file normally leaves it out.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pair_model: Option<PairModel>,
+}
+
 /// A campaign of patch tests.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PatchSuite {
-    /// Target material; default Table 4 with nu = 0.15, s = 0 (paper 000 section 3).
+    /// Target material; default Table 4 with nu = 0.15, s = 0 (paper 000 section 3). Ignored when
+    /// `model` names a card.
     #[serde(default = "d_material")]
     pub material: Material,
-    /// Calibration multipliers; default all 1 (the closed-form parameters, eqs 7-13).
+    /// Calibration multipliers; default all 1 (the closed-form parameters, eqs 7-13). Ignored when
+    /// `model` names a card.
     #[serde(default)]
     pub scale: ParamScale,
+    /// The pair model of a calibrated card; default none (`material` and `scale`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub model: Option<ModelSource>,
     pub sample: SampleSpec,
     /// Relaxation of amorphous samples; default the paper's (section 3.2).
     #[serde(default)]
@@ -136,9 +154,29 @@ pub fn run_suite(suite: &PatchSuite, out: Option<&Path>, par: Parallelism) -> Re
             "continuing the campaign of {report_path}: its finished cases are reused"
         );
     }
+    let card = match &suite.model {
+        None => None,
+        Some(ModelSource {
+            pair_model: Some(m),
+            ..
+        }) => Some(m.clone()),
+        Some(ModelSource { card, .. }) => {
+            return Err(DemError::InvalidConfig(format!(
+                "[model] card = {}: the card's model was not read (cgdem patch reads it)",
+                card.display()
+            )))
+        }
+    };
+    if card.is_some() && !(suite.sweep.scaling.is_empty() && suite.sweep.poisson_ratio.is_empty()) {
+        return Err(DemError::InvalidConfig(
+            "a card's model is calibrated for its own nu and s: sweep only d0 with [model] card"
+                .into(),
+        ));
+    }
+    let material = card.as_ref().map_or(&suite.material, |m| &m.material);
     let (scalings, nus) = (
-        or_base(&suite.sweep.scaling, suite.material.scaling),
-        or_base(&suite.sweep.poisson_ratio, suite.material.poisson_ratio),
+        or_base(&suite.sweep.scaling, material.scaling),
+        or_base(&suite.sweep.poisson_ratio, material.poisson_ratio),
     );
     let total = d0s.len() * scalings.len() * nus.len();
     let mut cases = Vec::new();
@@ -156,12 +194,18 @@ pub fn run_suite(suite: &PatchSuite, out: Option<&Path>, par: Parallelism) -> Re
                     cases.push(c.clone());
                     continue;
                 }
-                let mut model = PairModel::cohesive(Material {
-                    poisson_ratio: nu,
-                    scaling: s,
-                    ..suite.material.clone()
-                });
-                model.scale = suite.scale;
+                let model = match &card {
+                    Some(m) => m.clone(),
+                    None => {
+                        let mut m = PairModel::cohesive(Material {
+                            poisson_ratio: nu,
+                            scaling: s,
+                            ..suite.material.clone()
+                        });
+                        m.scale = suite.scale;
+                        m
+                    }
+                };
                 model.validate()?;
                 let spec = match d0 {
                     Some(v) if base_d0.is_some() => suite.sample.with_d0(*v)?,

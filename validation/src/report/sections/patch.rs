@@ -64,6 +64,7 @@ fn suite(nu: f64, s: f64, sample: SampleSpec, tests: Vec<PatchKind>, post_peak: 
             ..Material::table4(nu)
         },
         scale: ParamScale::default(),
+        model: None,
         sample,
         relax: RelaxConfig::default(),
         tests,
