@@ -74,7 +74,7 @@ fn gauss_solve(a: &mut [Vec<f64>], b: &mut [f64]) -> Result<()> {
 /// Savitzky-Golay filter of `y` with an odd `window` and a polynomial `order` below it (see the
 /// module docs for the ends). Refuses a series shorter than the window.
 pub fn savitzky_golay(y: &[f64], window: usize, order: usize) -> Result<Vec<f64>> {
-    if window % 2 == 0 || order >= window {
+    if window.is_multiple_of(2) || order >= window {
         return Err(WearError::Setting(format!(
             "Savitzky-Golay needs an odd window above the order (window {window}, order {order})"
         )));
