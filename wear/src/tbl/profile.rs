@@ -154,6 +154,26 @@ impl ProfileSums {
         Ok(())
     }
 
+    /// Adds the samples of `other` (same bin count) to these.
+    pub fn merge(&mut self, other: &ProfileSums) -> Result<()> {
+        if other.count.len() != self.count.len() {
+            return Err(WearError::Setting(format!(
+                "profiles of {} and {} bins cannot be merged",
+                self.count.len(),
+                other.count.len()
+            )));
+        }
+        for k in 0..self.count.len() {
+            self.velocity[k] += other.velocity[k];
+            self.count[k] += other.count[k];
+            self.density[k] += other.density[k];
+        }
+        self.samples += other.samples;
+        self.height += other.height;
+        self.v0 += other.v0;
+        Ok(())
+    }
+
     /// The averaged profile: mean velocity over the mean v0 per bin (`None` where no particle centre
     /// fell), and mean density per bin.
     pub fn profile(&self) -> Profile {
@@ -225,7 +245,11 @@ mod tests {
         let vx = [0.0, 0.4, 1.0];
         let mut s = ProfileSums::new(8);
         s.add(&bins, (&y, &r, &m, &vx), 1.0, 1.0).unwrap();
-        s.add(&bins, (&y, &r, &m, &vx), 1.0, 1.0).unwrap();
+        let mut other = ProfileSums::new(8);
+        other.add(&bins, (&y, &r, &m, &vx), 1.0, 1.0).unwrap();
+        s.merge(&other).unwrap();
+        assert!(s.merge(&ProfileSums::new(3)).is_err());
+        assert_eq!(s.samples, 2);
         let p = s.profile();
         let mass: f64 = p.density.iter().map(|d| d * bins.width()).sum();
         assert!((mass - 3.5).abs() < 1e-13, "{mass}");
