@@ -9,6 +9,7 @@ mod cmd_md;
 mod cmd_patch;
 mod cmd_pipeline;
 mod cmd_report;
+mod cmd_sliding;
 mod config;
 mod progress;
 
@@ -58,6 +59,8 @@ enum Command {
     Junction(cmd_junction::JunctionArgs),
     /// Automatic d* search by bisection on the junction size: `cgdem dstar configs/dstar-silica-6nm.toml --out DIR`.
     Dstar(cmd_dstar::DstarArgs),
+    /// Sliding with a third-body layer (paper 004): `cgdem sliding configs/sliding-quick.toml --out DIR`.
+    Sliding(cmd_sliding::SlidingArgs),
     /// The validation report: every claim with figure, tolerance and verdict (`cgdem report --out DIR`).
     Report(cmd_report::ReportArgs),
 }
@@ -88,6 +91,7 @@ fn main() -> Result<()> {
         Command::Pipeline(a) => cmd_pipeline::run(a, cli.threads),
         Command::Junction(a) => cmd_junction::run(a, cli.threads),
         Command::Dstar(a) => cmd_dstar::run(a, cli.threads),
+        Command::Sliding(a) => cmd_sliding::run(a, cli.threads),
         Command::Report(a) => cmd_report::run(a, cli.threads),
     }
 }

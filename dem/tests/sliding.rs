@@ -47,8 +47,10 @@ fn the_top_body_slides_at_v0_carries_p_n_and_threads_do_not_matter() {
     let (sample, model, cfg) = small();
     let r = run(&sample, &model, &cfg, Parallelism::Sequential, None).unwrap();
     let t = r.steps as f64 * r.dt;
+    // The top body moved v0 t by each force sample (velocity control).
     let last = r.force_top.last().unwrap();
-    assert!((last.displacement[0] - r.v0 * t).abs() < 1e-9 * r.v0 * t);
+    assert!(last.step + r.steps / 100 >= r.steps);
+    assert!((last.displacement[0] - r.v0 * last.time).abs() < 1e-9 * r.v0 * last.time);
     assert!((r.v0 - 0.1).abs() < 1e-15 && (t - 5.0).abs() <= r.dt);
     // The bottom body does not move.
     assert!(r.force_bottom.iter().all(|s| s.displacement == [0.0; 3]));
@@ -60,15 +62,15 @@ fn the_top_body_slides_at_v0_carries_p_n_and_threads_do_not_matter() {
         (fy - load).abs() < 0.15 * load,
         "mean F_y {fy} against p_N A = {load}"
     );
-    // Windows: as many as asked, the last at the last step; H near L.
+    // Windows: as many as asked (the steps left after the last whole window close none); H near L.
     assert_eq!(r.windows.len(), cfg.windows as usize);
-    assert_eq!(r.windows.last().unwrap().step, r.steps);
+    assert!(r.windows.last().unwrap().step > r.steps - r.steps / cfg.windows);
     assert!(
         r.windows.iter().all(|w| (w.height - 1.0).abs() < 0.1),
         "{:?}",
         r.windows
     );
-    assert_eq!(r.steady_windows, 2);
+    assert!(r.steady_windows >= 1);
     // The steady profile: velocity 0 at the bottom body, v0 at the top one; density integrating
     // to the system's mass over the cross-section.
     let u = &r.profile.velocity_over_v0;
@@ -78,7 +80,9 @@ fn the_top_body_slides_at_v0_carries_p_n_and_threads_do_not_matter() {
     let w = r.profile.height / cfg.bins as f64;
     let binned: f64 = r.profile.density.iter().sum::<f64>() * w * r.area;
     assert!(
-        (binned - mass).abs() < 1e-9 * mass,
+        // Each sample bins its own height H_s: the mean profile integrates to the mass times
+        // mean(H) mean(1 / H_s), 1 to second order in the top body's vertical motion.
+        (binned - mass).abs() < 1e-4 * mass,
         "{binned} against {mass}"
     );
     assert!(r.rho_tbl > 0.2 && r.rho_tbl < 1.3, "rho_TBL {}", r.rho_tbl);

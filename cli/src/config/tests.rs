@@ -54,6 +54,15 @@ fn kinds() -> Vec<ConfigKind> {
             },
         },
         ConfigKind {
+            name: "sliding",
+            check: |t| {
+                via::<validation::wear::sliding::SlidingFile>(t)?
+                    .runs()
+                    .map(|_| ())
+                    .map_err(|e| e.to_string())
+            },
+        },
+        ConfigKind {
             name: "dstar",
             check: |t| {
                 let f = via::<validation::wear::dstar::DstarFile>(t)?;
@@ -110,6 +119,7 @@ fn seeds(kind: &str) -> Vec<(String, String)> {
         "md silica" => "silica-",
         "junction" => "junction-",
         "dstar" => "dstar-",
+        "sliding" => "sliding-",
         _ => "\0",
     };
     let mut out: Vec<(String, String)> = std::fs::read_dir(configs_dir())

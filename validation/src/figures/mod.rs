@@ -7,4 +7,5 @@ pub mod dstar;
 pub mod junction;
 pub mod md;
 pub mod patch;
+pub mod sliding;
 pub(crate) mod style;

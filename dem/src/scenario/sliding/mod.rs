@@ -36,7 +36,7 @@ use crate::material::{ForceLaw, Material, PairModel};
 use crate::sample::{RelaxConfig, SampleSpec};
 
 pub use geometry::{build, Geometry, BODY_BOTTOM_HALF, BODY_TOP_HALF};
-pub use run::{run, run_resumable, SlidingResult, WindowRecord};
+pub use run::{run, run_resumable, SlidingResult, WindowRecord, HEIGHT_BANDS};
 
 /// The material of paper 004: its strength and one of its surface energy or critical size.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
