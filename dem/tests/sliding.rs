@@ -7,7 +7,7 @@ use dem::sample::{make_sample, RelaxConfig, Sample};
 use dem::scenario::sliding::{run, SlidingConfig, SlidingMaterial, SlidingResult};
 use dem::Parallelism;
 
-/// L = 10 d0 (d0 = 0.1 L), d* = 0.3 L, p_N = 0.02 E, half an L of sliding in 4 windows of 5 samples.
+/// L = 10 d0 (d0 = 0.1 L), d* = 0.3 L, p_N = 0.02 E, 2 L of sliding in 4 windows of 5 samples.
 fn small() -> (Sample, PairModel, SlidingConfig) {
     let cfg = SlidingConfig {
         d0_over_l: 0.1,
@@ -17,7 +17,7 @@ fn small() -> (Sample, PairModel, SlidingConfig) {
             d_star: Some(0.3),
         },
         pressure: 0.02,
-        distance_over_l: 0.5,
+        distance_over_l: 2.0,
         bins: 40,
         windows: 4,
         samples_per_window: 5,
@@ -51,15 +51,16 @@ fn the_top_body_slides_at_v0_carries_p_n_and_threads_do_not_matter() {
     let last = r.force_top.last().unwrap();
     assert!(last.step + r.steps / 100 >= r.steps);
     assert!((last.displacement[0] - r.v0 * last.time).abs() < 1e-9 * r.v0 * last.time);
-    assert!((r.v0 - 0.1).abs() < 1e-15 && (t - 5.0).abs() <= r.dt);
+    assert!((r.v0 - 0.1).abs() < 1e-15 && (t - 20.0).abs() <= r.dt);
     // The bottom body does not move.
     assert!(r.force_bottom.iter().all(|s| s.displacement == [0.0; 3]));
-    // Over the second half the layer pushes the top body up with p_N A (mean equilibrium).
+    // Over the second half (about four periods of the top body's bounce on the layer) the layer
+    // pushes the top body up with p_N A (mean equilibrium).
     let late = &r.force_top[r.force_top.len() / 2..];
     let fy = late.iter().map(|s| s.force[1]).sum::<f64>() / late.len() as f64;
     let load = cfg.pressure * r.area;
     assert!(
-        (fy - load).abs() < 0.15 * load,
+        (fy - load).abs() < 0.2 * load,
         "mean F_y {fy} against p_N A = {load}"
     );
     // Windows: as many as asked (the steps left after the last whole window close none); H near L.

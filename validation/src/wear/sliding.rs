@@ -115,6 +115,21 @@ pub fn run_sliding(
     cfg.validate()?;
     std::fs::create_dir_all(out).map_err(|e| ValidationError::io(out, e))?;
     let model = cfg.model()?;
+    // Eq 11: pairs larger than d_m = d* / 8 break at delta_e, where gamma no longer enters (see
+    // `dem::scenario::sliding`); at d_m below the smallest pair (1.5 d0) d* has no effect at all.
+    let d_m_over_d0 = cfg.d_star()? / 8.0 / cfg.d0();
+    if d_m_over_d0 < 2.5 {
+        tracing::warn!(
+            d_m_over_d0,
+            "eq 11 of paper 004 fails for pairs above d_m = d*/8: they break at delta_e and gamma \
+             (hence d*) does not enter them{}",
+            if d_m_over_d0 < 1.5 {
+                " (every pair here: d* has no effect)"
+            } else {
+                ""
+            }
+        );
+    }
     let t = std::time::Instant::now();
     let relax_progress = ProgressFile::new(out.join("relax.progress.json"));
     let sample = make_sample_resumable(

@@ -156,7 +156,7 @@ mod tests {
             }
         }
         // No overlap, and the lift is the least: some pair touches.
-        assert!(closest >= -1e-12 && closest < 1e-9, "closest gap {closest}");
+        assert!((-1e-12..1e-9).contains(&closest), "closest gap {closest}");
         assert!((gb.hi.y - 1.0 - g.lift).abs() < 1e-15);
         assert!(g.height0.iter().all(|&h| (0.0..1.0).contains(&h)));
     }

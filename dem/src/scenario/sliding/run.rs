@@ -51,7 +51,6 @@ struct ProfileProbe {
     base: f64,
     top_ref: usize,
     top_above_ref: f64,
-    top_ref_x0: f64,
     area: f64,
     v0: f64,
     rho0: f64,
@@ -123,7 +122,8 @@ impl Observer for ProfileProbe {
         self.windows.push(WindowRecord {
             step: sim.step_count(),
             time: sim.time(),
-            slide: p.pos[self.top_ref].x - self.top_ref_x0,
+            // Velocity control: the top body has moved v0 t (positions wrap along x).
+            slide: self.v0 * sim.time(),
             height: profile.height,
             h_tbl,
             rho_tbl,
@@ -287,7 +287,6 @@ pub fn run_resumable(
                 base,
                 top_ref: rig.top_ref,
                 top_above_ref,
-                top_ref_x0: p.pos[rig.top_ref].x,
                 area: lengths.x * lengths.z,
                 v0,
                 rho0,
