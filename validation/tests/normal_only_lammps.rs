@@ -62,7 +62,9 @@ fn normal_only_forces_and_virial_agree_with_lammps_lepton_sphere() {
     let spec = SampleSpec::Amorphous {
         d0_over_dc: 2.0,
         l_over_d0: 8.0,
-        w_over_d0: 3.0,
+        // 4 d0, not paper 004's 3 d0: the periodic width must exceed twice the longest range
+        // (2 x 1.65 d0 with delta_f = 0.4 d0), or a pair interacts through two images at once.
+        w_over_d0: 4.0,
         h_over_d0: None,
         ds_over_d0: 0.75,
         dl_over_d0: 1.25,
