@@ -12,6 +12,7 @@ mod cmd_patch;
 mod cmd_pipeline;
 mod cmd_report;
 mod cmd_scratch;
+mod cmd_sliding;
 mod config;
 mod job_args;
 mod progress;
@@ -68,6 +69,8 @@ enum Command {
     Junction(cmd_junction::JunctionArgs),
     /// Automatic d* search by bisection on the junction size: `cgdem dstar configs/dstar-silica-6nm.toml --out DIR`.
     Dstar(cmd_dstar::DstarArgs),
+    /// Sliding with a third-body layer (paper 004): `cgdem sliding configs/sliding-quick.toml --out DIR`.
+    Sliding(cmd_sliding::SlidingArgs),
     /// The validation report: every claim with figure, tolerance and verdict (`cgdem report --out DIR`).
     Report(cmd_report::ReportArgs),
 }
@@ -101,6 +104,7 @@ fn main() -> Result<()> {
         Command::BenchPlastic(a) => cmd_bench_plastic::run(a),
         Command::Junction(a) => cmd_junction::run(a, cli.threads),
         Command::Dstar(a) => cmd_dstar::run(a, cli.threads),
+        Command::Sliding(a) => cmd_sliding::run(a, cli.threads),
         Command::Report(a) => cmd_report::run(a, cli.threads),
     }
 }

@@ -8,12 +8,15 @@
 //! - [`outcome`]: the verdict on a sheared junction (plastic smoothing or a detached, rolling wear
 //!   particle) from the junction members' frames, the same decision for MD atoms and DEM particles;
 //! - [`dstar`]: the bisection on the junction size D between a plastic and a debris outcome, with
-//!   several seeds per D, that brackets d* from either side's runs.
+//!   several seeds per D, that brackets d* from either side's runs;
+//! - [`tbl`]: the measures of a third-body layer under sliding (paper 004): velocity and density
+//!   profiles, the TBL's boundaries and thickness, rho_TBL from a Gaussian fit, the regime of a run.
 
 pub mod dstar;
 pub mod error;
 pub mod outcome;
 pub mod scales;
+pub mod tbl;
 
 pub use error::{Result, WearError};
 pub use outcome::{classify, ClassifyParams, Outcome, Verdict};

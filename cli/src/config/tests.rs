@@ -54,6 +54,15 @@ fn kinds() -> Vec<ConfigKind> {
             },
         },
         ConfigKind {
+            name: "sliding",
+            check: |t| {
+                via::<validation::wear::sliding::SlidingFile>(t)?
+                    .runs()
+                    .map(|_| ())
+                    .map_err(|e| e.to_string())
+            },
+        },
+        ConfigKind {
             name: "dstar",
             check: |t| {
                 let f = via::<validation::wear::dstar::DstarFile>(t)?;
@@ -133,6 +142,7 @@ fn seeds(kind: &str) -> Vec<(String, String)> {
         "dstar" => "dstar-",
         "impact" => "impact-",
         "scratch" => "scratch",
+        "sliding" => "sliding-",
         _ => "\0",
     };
     let mut out: Vec<(String, String)> = std::fs::read_dir(configs_dir())

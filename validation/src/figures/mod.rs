@@ -8,4 +8,5 @@ pub mod junction;
 pub mod md;
 pub mod patch;
 pub mod plastic;
+pub mod sliding;
 pub(crate) mod style;

@@ -4,3 +4,4 @@
 
 pub mod dstar;
 pub mod junction;
+pub mod sliding;

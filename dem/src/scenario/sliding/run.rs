@@ -1,0 +1,432 @@
+//! Running a sliding system: the rig, the profile and force observers, the progress file, the
+//! measures of the steady state.
+
+use std::path::Path;
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+use wear::tbl::{
+    classify_regime, measure_layer, shear_traction, tbl_bounds, Bins, LayerMeasures, LayerParams,
+    Profile, ProfileSums, Regime, RegimeData,
+};
+
+use super::{build, SlidingConfig};
+use crate::error::{DemError, Result};
+use crate::io::checkpoint::Checkpoint;
+use crate::io::progress::{self, ProgressFile, SaveClock};
+use crate::material::PairModel;
+use crate::observe::{Dump, ForceSample, GroupForce, Observer};
+use crate::sample::Sample;
+use crate::scenario::junction::Snapshot;
+use crate::scenario::rig::{Rig, RigSpec, BOTTOM, TOP};
+use crate::sim::{Parallelism, RunConfig, Simulation, TimeStep};
+use crate::walls::{AxisControl, RigidMotion};
+use crate::Vec3;
+
+/// Colour bands of the initial height in dumps and snapshots (Fig. 3 colours by initial height).
+pub const HEIGHT_BANDS: u32 = 20;
+
+/// The measures of one window of the run (Fig. 5).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct WindowRecord {
+    /// Last step and time of the window, and the top body's slide along x by then.
+    pub step: u64,
+    pub time: f64,
+    pub slide: f64,
+    /// Mean height H of the window's samples.
+    pub height: f64,
+    /// h_TBL / H (`None`: nothing slid inside the system, the velocity never crossed a threshold).
+    pub h_tbl: Option<f64>,
+    /// rho_TBL / rho_0 of the window's profile (`None` when its fit failed).
+    pub rho_tbl: Option<f64>,
+}
+
+/// The profile observer: samples binned over the current height, closed into windows.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+struct ProfileProbe {
+    every: u64,
+    per_window: u64,
+    bins: usize,
+    /// Bottom of the bottom body (fixed) and the top body's top above its reference particle.
+    base: f64,
+    top_ref: usize,
+    top_above_ref: f64,
+    area: f64,
+    v0: f64,
+    rho0: f64,
+    /// Bins within this distance of either end are outside the fit (the rigid bodies).
+    margin: f64,
+    d0: f64,
+    layer: LayerParams,
+    steady_step: u64,
+    current: ProfileSums,
+    steady: ProfileSums,
+    windows: Vec<WindowRecord>,
+}
+
+impl ProfileProbe {
+    fn height(&self, sim: &Simulation) -> f64 {
+        sim.particles.pos[self.top_ref].y + self.top_above_ref - self.base
+    }
+
+    /// The fitted range over H, and the smallest Gaussian width, for a system of height `h`.
+    fn fit_params(&self, h: f64) -> ((f64, f64), LayerParams) {
+        let m = self.margin / h;
+        let layer = LayerParams {
+            min_width: self.d0 / h,
+            ..self.layer
+        };
+        ((m, 1.0 - m), layer)
+    }
+
+    fn measure(&self, profile: &Profile) -> Result<LayerMeasures> {
+        let (range, layer) = self.fit_params(profile.height);
+        measure_layer(profile, self.rho0, range, &layer)
+            .map_err(|e| DemError::InvalidConfig(format!("sliding profile: {e}")))
+    }
+}
+
+impl Observer for ProfileProbe {
+    fn every(&self) -> u64 {
+        self.every
+    }
+    fn observe(&mut self, sim: &Simulation) -> Result<()> {
+        let h = self.height(sim);
+        let bins = Bins::new(self.base, h, self.bins)
+            .map_err(|e| DemError::InvalidConfig(format!("sliding profile: {e}")))?;
+        let p = &sim.particles;
+        let y: Vec<f64> = p.pos.iter().map(|x| x.y).collect();
+        let vx: Vec<f64> = p.vel.iter().map(|v| v.x).collect();
+        self.current
+            .add(&bins, (&y, &p.radius, &p.mass, &vx), self.area, self.v0)
+            .map_err(|e| DemError::InvalidConfig(format!("sliding profile: {e}")))?;
+        if self.current.samples < self.per_window {
+            return Ok(());
+        }
+        let profile = self.current.profile();
+        let h_tbl = tbl_bounds(
+            &profile.centres(),
+            &profile.velocity_over_v0,
+            self.layer.v_lower,
+            self.layer.v_upper,
+        )
+        .map(|b| b.thickness());
+        let rho_tbl = self.measure(&profile).ok().map(|m| m.rho_tbl);
+        // The window began after its previous one ended; it is steady if it began at or after the
+        // steady step (the same test as the run's steady windows).
+        if sim.step_count() + 1 >= self.steady_step + self.every * self.per_window {
+            self.steady
+                .merge(&self.current)
+                .map_err(|e| DemError::InvalidConfig(format!("sliding profile: {e}")))?;
+        }
+        self.windows.push(WindowRecord {
+            step: sim.step_count(),
+            time: sim.time(),
+            // Velocity control: the top body has moved v0 t (positions wrap along x).
+            slide: self.v0 * sim.time(),
+            height: profile.height,
+            h_tbl,
+            rho_tbl,
+        });
+        self.current.clear();
+        Ok(())
+    }
+}
+
+/// What a sliding run gives.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SlidingResult {
+    pub particles: usize,
+    pub body_particles: usize,
+    pub steps: u64,
+    pub dt: f64,
+    /// Sliding velocity v0, interface area (x z), bulk density rho_0 of the relaxed box.
+    pub v0: f64,
+    pub area: f64,
+    pub rho0: f64,
+    /// Shift and lift of the top half (see [`super::geometry`]).
+    pub shift: f64,
+    pub lift: f64,
+    /// d* (eq 13) and d_m = d* / 8 (eq 12) over d0.
+    pub d_star: f64,
+    pub d_m_over_d0: f64,
+    /// The windows' measures over time.
+    pub windows: Vec<WindowRecord>,
+    /// Pair forces on the top and bottom bodies over the run.
+    pub force_top: Vec<ForceSample>,
+    pub force_bottom: Vec<ForceSample>,
+    /// First step of the steady part, and the windows it holds.
+    pub steady_step: u64,
+    pub steady_windows: usize,
+    /// The steady profiles and their measures.
+    pub profile: Profile,
+    pub layer: LayerMeasures,
+    /// rho_TBL / rho_0 of the steady profile, mean h_TBL / H of the steady windows, mean p_T over the
+    /// steady force samples, p_N, tau_m (all in the engine's units).
+    pub rho_tbl: f64,
+    pub h_tbl: f64,
+    pub p_t: f64,
+    pub p_n: f64,
+    pub tau_m: f64,
+    pub regime: Regime,
+    /// Every particle at the start and the end (`body` holds the initial-height band).
+    pub first: Snapshot,
+    pub last: Snapshot,
+    /// Wall-clock seconds of the run (relaxation excluded), summed over resumed parts.
+    pub wall_seconds: f64,
+}
+
+/// What a run has done so far: enough to continue it exactly.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct Progress {
+    sim: Checkpoint,
+    probe: ProfileProbe,
+    top: GroupForce,
+    bottom: GroupForce,
+    dump: Option<Dump>,
+    seconds: f64,
+}
+
+/// [`run_resumable`] without a progress file.
+pub fn run(
+    relaxed: &Sample,
+    model: &PairModel,
+    cfg: &SlidingConfig,
+    par: Parallelism,
+    dump: Option<&Path>,
+) -> Result<SlidingResult> {
+    run_resumable(relaxed, model, cfg, par, dump, None, &mut |_, _| {})
+}
+
+/// Cuts `relaxed` into two halves, slides them and measures the layer. `model` must be the
+/// normal-only law (paper 004). With `dump`, writes LAMMPS-style frames there (columns `half` and
+/// `height0`, the initial-height band for Fig. 3's colours). With `progress`, saves the run's state
+/// every few minutes and on an interrupt, and continues from it when it holds the same inputs'
+/// progress (bit-identical to an uninterrupted run). `report(step, total)` is called at every window.
+pub fn run_resumable(
+    relaxed: &Sample,
+    model: &PairModel,
+    cfg: &SlidingConfig,
+    par: Parallelism,
+    dump: Option<&Path>,
+    progress: Option<&ProgressFile>,
+    report: &mut dyn FnMut(u64, u64),
+) -> Result<SlidingResult> {
+    let t0 = Instant::now();
+    SlidingConfig::check_model(model)?;
+    let geo = build(relaxed, cfg)?;
+    let d0 = cfg.d0();
+    let run_cfg = RunConfig {
+        time_step: TimeStep::FractionOfCritical(cfg.time_step_fraction),
+        ..RunConfig::default()
+    };
+    let mut rig = Rig::new(
+        &geo.sample,
+        model,
+        RigSpec::y_normal(cfg.body_thickness_over_d0 * d0),
+        run_cfg,
+        par,
+    )?;
+    let v0 = cfg.velocity();
+    rig.set_top(RigidMotion {
+        axes: [
+            AxisControl::Velocity(v0),
+            AxisControl::Traction(-cfg.pressure),
+            AxisControl::Velocity(0.0),
+        ],
+        velocity: Vec3::new(v0, 0.0, 0.0),
+    });
+    let dt = rig.sim.dt();
+    let total = cfg.steps(dt);
+    let every = (total / (cfg.windows * cfg.samples_per_window)).max(1);
+    let window_steps = every * cfg.samples_per_window;
+    let force_every = (total / cfg.force_samples).max(1);
+    let steady_step = (cfg.steady_from * total as f64).ceil() as u64;
+    let p = &rig.sim.particles;
+    let members = |g: u32| -> Vec<usize> { (0..p.len()).filter(|&i| p.group[i] == g).collect() };
+    let (bottom, top) = (members(BOTTOM), members(TOP));
+    let base = bottom
+        .iter()
+        .map(|&i| p.pos[i].y - p.radius[i])
+        .fold(f64::INFINITY, f64::min);
+    let top_above_ref = top
+        .iter()
+        .map(|&i| p.pos[i].y + p.radius[i])
+        .fold(f64::NEG_INFINITY, f64::max)
+        - p.pos[rig.top_ref].y;
+    let lengths = rig.sim.sim_box.lengths();
+    let rho0 = relaxed.particles.mass.iter().sum::<f64>() / relaxed.sim_box.volume();
+    let band: Vec<u32> = geo
+        .height0
+        .iter()
+        .map(|&h| ((h * HEIGHT_BANDS as f64) as u32).min(HEIGHT_BANDS - 1))
+        .collect();
+    let roles: Vec<u8> = (0..p.len())
+        .map(|i| if rig.free[i] { 0 } else { 2 })
+        .collect();
+    let first = snapshot(&rig.sim, &band, &roles);
+    let key = progress::key(&(cfg, model), relaxed)?;
+    let saved = progress.and_then(|f| progress::load::<Progress>(&f.path, &key));
+    let mut st = match saved {
+        Some(p) => {
+            rig.sim = Simulation::from_checkpoint(p.sim.clone(), par)?;
+            if let Some(d) = &p.dump {
+                d.truncate_to_recorded()?;
+            }
+            tracing::info!(
+                step = rig.sim.step_count(),
+                "sliding run resumed from its progress file"
+            );
+            p
+        }
+        None => Progress {
+            probe: ProfileProbe {
+                every,
+                per_window: cfg.samples_per_window,
+                bins: cfg.bins,
+                base,
+                top_ref: rig.top_ref,
+                top_above_ref,
+                area: lengths.x * lengths.z,
+                v0,
+                rho0,
+                margin: (cfg.body_thickness_over_d0 + 1.0) * d0,
+                d0,
+                layer: cfg.layer,
+                steady_step,
+                current: ProfileSums::new(cfg.bins),
+                steady: ProfileSums::new(cfg.bins),
+                windows: Vec::new(),
+            },
+            top: GroupForce::new(&rig.sim, top.clone(), force_every)?,
+            bottom: GroupForce::new(&rig.sim, bottom.clone(), force_every)?,
+            dump: match (dump, cfg.dump_frames) {
+                (Some(path), n) if n > 0 => Some(Dump::new(
+                    &rig.sim,
+                    path.to_path_buf(),
+                    vec![
+                        ("half".to_string(), geo.body.clone()),
+                        ("height0".to_string(), band.clone()),
+                    ],
+                    (total / n).max(1),
+                )?),
+                _ => None,
+            },
+            sim: rig.sim.checkpoint(),
+            seconds: 0.0,
+        },
+    };
+    let mut clock = SaveClock::new();
+    let save = |st: &mut Progress, sim: &Simulation, f: &ProgressFile| -> Result<()> {
+        st.sim = sim.checkpoint();
+        let mut copy = st.clone();
+        copy.seconds += t0.elapsed().as_secs_f64();
+        progress::save(&f.path, &key, &copy)
+    };
+    while rig.sim.step_count() < total {
+        let chunk =
+            (window_steps - rig.sim.step_count() % window_steps).min(total - rig.sim.step_count());
+        let mut observers: Vec<&mut dyn Observer> =
+            vec![&mut st.probe, &mut st.top, &mut st.bottom];
+        if let Some(d) = st.dump.as_mut() {
+            observers.push(d);
+        }
+        if let Err(e) = rig.sim.run_observed(chunk, &mut observers) {
+            if let (DemError::Interrupted { .. }, Some(f)) = (&e, progress) {
+                save(&mut st, &rig.sim, f)?;
+                tracing::info!(path = %f.path.display(), "sliding progress saved: rerun to continue");
+            }
+            return Err(e);
+        }
+        report(rig.sim.step_count(), total);
+        if let Some(f) = progress.filter(|f| clock.due(f.every)) {
+            save(&mut st, &rig.sim, f)?;
+        }
+    }
+    let steady_windows: Vec<&WindowRecord> = st
+        .probe
+        .windows
+        .iter()
+        .filter(|w| w.step + 1 >= steady_step + window_steps)
+        .collect();
+    if st.probe.steady.samples == 0 {
+        return Err(DemError::InvalidConfig(format!(
+            "sliding: no complete window after steady_from = {} of the run ({} steps, windows of {}); \
+             a longer distance or more windows",
+            cfg.steady_from, total, window_steps
+        )));
+    }
+    let profile = st.probe.steady.profile();
+    let layer = st.probe.measure(&profile)?;
+    let h: Vec<f64> = steady_windows
+        .iter()
+        .map(|w| w.h_tbl.unwrap_or(0.0))
+        .collect();
+    let h_tbl = h.iter().sum::<f64>() / h.len().max(1) as f64;
+    let area = st.probe.area;
+    let steady_forces: Vec<f64> = st
+        .top
+        .samples
+        .iter()
+        .zip(&st.bottom.samples)
+        .filter(|(a, _)| a.step >= steady_step)
+        .map(|(a, b)| shear_traction(a.force[0], b.force[0], area))
+        .collect();
+    let p_t = steady_forces.iter().sum::<f64>() / steady_forces.len().max(1) as f64;
+    let tau_m = cfg.shear_strength_over_strength * cfg.material.strength;
+    let regime = classify_regime(
+        &RegimeData {
+            rho_tbl: layer.rho_tbl,
+            p_t,
+            tau_m,
+            h_tbl: h,
+        },
+        &cfg.regime,
+    )
+    .map_err(|e| DemError::InvalidConfig(format!("sliding regime: {e}")))?;
+    let d_star = cfg.d_star()?;
+    let last = snapshot(&rig.sim, &band, &roles);
+    Ok(SlidingResult {
+        particles: rig.sim.particles.len(),
+        body_particles: top.len() + bottom.len(),
+        steps: total,
+        dt,
+        v0,
+        area,
+        rho0,
+        shift: geo.shift,
+        lift: geo.lift,
+        d_star,
+        d_m_over_d0: d_star / 8.0 / d0,
+        steady_step,
+        steady_windows: steady_windows.len(),
+        windows: st.probe.windows.clone(),
+        force_top: st.top.samples.clone(),
+        force_bottom: st.bottom.samples.clone(),
+        rho_tbl: layer.rho_tbl,
+        profile,
+        layer,
+        h_tbl,
+        p_t,
+        p_n: cfg.pressure,
+        tau_m,
+        regime,
+        first,
+        last,
+        wall_seconds: st.seconds + t0.elapsed().as_secs_f64(),
+    })
+}
+
+fn snapshot(sim: &Simulation, band: &[u32], role: &[u8]) -> Snapshot {
+    let p = &sim.particles;
+    let b = &sim.sim_box;
+    Snapshot {
+        step: sim.step_count(),
+        lo: [b.lo.x, b.lo.y, b.lo.z],
+        hi: [b.hi.x, b.hi.y, b.hi.z],
+        pos: p.pos.iter().map(|x| [x.x, x.y, x.z]).collect(),
+        radius: p.radius.clone(),
+        body: band.to_vec(),
+        role: role.to_vec(),
+    }
+}

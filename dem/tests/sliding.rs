@@ -1,0 +1,107 @@
+//! Sliding with a third-body layer (paper 004) on a small quasi-2D box: the rig's mechanics (the top
+//! body slides at v0 and carries p_N), the measures' consistency, thread-count independence, and
+//! the refusal of a law the scenario is not defined for.
+
+use dem::material::PairModel;
+use dem::sample::{make_sample, RelaxConfig, Sample};
+use dem::scenario::sliding::{run, SlidingConfig, SlidingMaterial, SlidingResult};
+use dem::Parallelism;
+
+/// L = 10 d0 (d0 = 0.1 L), d* = 0.3 L, p_N = 0.02 E, 2 L of sliding in 4 windows of 5 samples.
+fn small() -> (Sample, PairModel, SlidingConfig) {
+    let cfg = SlidingConfig {
+        d0_over_l: 0.1,
+        material: SlidingMaterial {
+            strength: 0.1,
+            surface_energy: None,
+            d_star: Some(0.3),
+        },
+        pressure: 0.02,
+        distance_over_l: 2.0,
+        bins: 40,
+        windows: 4,
+        samples_per_window: 5,
+        force_samples: 100,
+        dump_frames: 0,
+        ..SlidingConfig::default()
+    };
+    let model = cfg.model().unwrap();
+    let sample = make_sample(
+        &cfg.recipe().unwrap(),
+        &model,
+        &RelaxConfig::default(),
+        Parallelism::Sequential,
+    )
+    .unwrap();
+    (sample, model, cfg)
+}
+
+fn timeless(r: &SlidingResult) -> String {
+    let mut r = r.clone();
+    r.wall_seconds = 0.0;
+    format!("{r:?}")
+}
+
+#[test]
+fn the_top_body_slides_at_v0_carries_p_n_and_threads_do_not_matter() {
+    let (sample, model, cfg) = small();
+    let r = run(&sample, &model, &cfg, Parallelism::Sequential, None).unwrap();
+    let t = r.steps as f64 * r.dt;
+    // The top body moved v0 t by each force sample (velocity control).
+    let last = r.force_top.last().unwrap();
+    assert!(last.step + r.steps / 100 >= r.steps);
+    assert!((last.displacement[0] - r.v0 * last.time).abs() < 1e-9 * r.v0 * last.time);
+    assert!((r.v0 - 0.1).abs() < 1e-15 && (t - 20.0).abs() <= r.dt);
+    // The bottom body does not move.
+    assert!(r.force_bottom.iter().all(|s| s.displacement == [0.0; 3]));
+    // Over the second half (about four periods of the top body's bounce on the layer) the layer
+    // pushes the top body up with p_N A (mean equilibrium).
+    let late = &r.force_top[r.force_top.len() / 2..];
+    let fy = late.iter().map(|s| s.force[1]).sum::<f64>() / late.len() as f64;
+    let load = cfg.pressure * r.area;
+    assert!(
+        (fy - load).abs() < 0.2 * load,
+        "mean F_y {fy} against p_N A = {load}"
+    );
+    // Windows: as many as asked (the steps left after the last whole window close none); H is the
+    // relaxed box's height, plus the lift of the top half, within two d0 (the bodies' outer radii,
+    // the layer's dilation).
+    assert_eq!(r.windows.len(), cfg.windows as usize);
+    assert!(r.windows.last().unwrap().step > r.steps - r.steps / cfg.windows);
+    let ly = sample.sim_box.lengths().y + r.lift;
+    assert!(
+        r.windows.iter().all(|w| (w.height - ly).abs() < 0.2),
+        "{:?}",
+        r.windows
+    );
+    assert!(r.steady_windows >= 1);
+    // The steady profile: velocity 0 at the bottom body, v0 at the top one; density integrating
+    // to the system's mass over the cross-section.
+    let u = &r.profile.velocity_over_v0;
+    assert_eq!(u.iter().flatten().next(), Some(&0.0));
+    assert!((u.iter().flatten().last().unwrap() - 1.0).abs() < 1e-12);
+    let mass: f64 = sample.particles.mass.iter().sum();
+    let w = r.profile.height / cfg.bins as f64;
+    let binned: f64 = r.profile.density.iter().sum::<f64>() * w * r.area;
+    assert!(
+        // Each sample bins its own height H_s: the mean profile integrates to the mass times
+        // mean(H) mean(1 / H_s), 1 to second order in the top body's vertical motion.
+        (binned - mass).abs() < 1e-4 * mass,
+        "{binned} against {mass}"
+    );
+    assert!(r.rho_tbl > 0.2 && r.rho_tbl < 1.3, "rho_TBL {}", r.rho_tbl);
+    assert!(r.h_tbl >= 0.0 && r.h_tbl <= 1.0);
+    assert!(r.p_t.is_finite() && r.p_t > 0.0, "p_T {}", r.p_t);
+    assert!((r.d_m_over_d0 - 0.375).abs() < 1e-12);
+    // Bit-identical on two threads.
+    let two = run(&sample, &model, &cfg, Parallelism::Threads(2), None).unwrap();
+    assert_eq!(timeless(&two), timeless(&r));
+}
+
+#[test]
+fn a_tangential_law_is_refused() {
+    let (sample, _, cfg) = small();
+    let cohesive = PairModel::cohesive(cfg.material().unwrap());
+    let e = run(&sample, &cohesive, &cfg, Parallelism::Sequential, None).unwrap_err();
+    assert!(e.to_string().contains("normal-only"), "{e}");
+}

@@ -1,0 +1,312 @@
+//! One sliding run, or a grid of them, as the workbench runs it (`cgdem sliding CONFIG --out DIR`,
+//! paper 004): the config file, the relaxed sample (relaxed in the run's folder, resumable), the run
+//! (resumable), and its outputs:
+//! - `summary.json`: `rho_tbl` (over rho_0), `h_tbl` (over H), `p_t`, `p_n`, `regime`, with the
+//!   material (sigma_m, gamma, d*), the cost and the settings;
+//! - `profiles.csv`: the steady profiles over y / H (velocity over v0, density over rho_0 raw and
+//!   Savitzky-Golay filtered, the fitted Gaussian);
+//! - `windows.csv`: h_TBL / H and rho_TBL / rho_0 per window against the slide (Fig. 5);
+//! - `force.csv`: the horizontal and normal pair forces on the two bodies and p_T;
+//! - `sliding.dump`: LAMMPS-style frames (OVITO) with `half` and `height0` columns;
+//! - `profiles.png`, `h_tbl.png`, `snapshot.png` (see [`crate::figures::sliding`]).
+//!
+//! A grid (`[[grid]]` entries, each a p_N, sigma_m and d*) is a list of [`dem::jobs`] jobs: each run
+//! in `DIR/runs/<key>/` with its own outputs, side by side or sharded, and `DIR/grid.csv`.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use dem::io::checkpoint::write_atomic;
+use dem::io::progress::{self, ProgressFile};
+use dem::jobs::{run_jobs, JobCache, RunJobs};
+use dem::sample::make_sample_resumable;
+use dem::scenario::sliding::{run_resumable, SlidingConfig, SlidingResult};
+use dem::Parallelism;
+use serde::{Deserialize, Serialize};
+use wear::tbl::Regime;
+
+use crate::error::{Result, ValidationError};
+use crate::figures::sliding::{draw_h_tbl, draw_profiles, draw_snapshot};
+
+/// One point of a grid: the settings that differ from the file's `[sliding]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GridPoint {
+    /// p_N (units of E).
+    pub pressure: f64,
+    /// sigma_m (units of E).
+    pub strength: f64,
+    /// d* (units of L).
+    pub d_star: f64,
+}
+
+/// A sliding config file: `[sliding]` (every key optional, defaults the paper's), and optionally a
+/// grid of runs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SlidingFile {
+    #[serde(default)]
+    pub sliding: SlidingConfig,
+    /// Runs of a grid (none: one run of `[sliding]`).
+    #[serde(default)]
+    pub grid: Vec<GridPoint>,
+}
+
+impl SlidingFile {
+    /// The config of every run (one without a grid), each validated.
+    pub fn runs(&self) -> Result<Vec<SlidingConfig>> {
+        let runs: Vec<SlidingConfig> = if self.grid.is_empty() {
+            vec![self.sliding.clone()]
+        } else {
+            self.grid
+                .iter()
+                .map(|g| {
+                    let mut c = self.sliding.clone();
+                    c.pressure = g.pressure;
+                    c.material.strength = g.strength;
+                    c.material.d_star = Some(g.d_star);
+                    c.material.surface_energy = None;
+                    c
+                })
+                .collect()
+        };
+        for c in &runs {
+            c.validate()?;
+        }
+        Ok(runs)
+    }
+}
+
+/// What `summary.json` holds (and a grid's row).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SlidingSummary {
+    /// rho_TBL / rho_0 of the steady profile.
+    pub rho_tbl: f64,
+    /// Mean h_TBL / H of the steady windows.
+    pub h_tbl: f64,
+    /// Mean p_T and the applied p_N (units of E).
+    pub p_t: f64,
+    pub p_n: f64,
+    pub regime: Regime,
+    /// tau_m (units of E) and p_T over tau_m rho_TBL (1 where the contact area is the density's).
+    pub tau_m: f64,
+    pub p_t_over_tau_rho: f64,
+    pub strength: f64,
+    pub surface_energy: f64,
+    pub d_star: f64,
+    pub d_m_over_d0: f64,
+    pub d0_over_l: f64,
+    pub distance_over_l: f64,
+    pub particles: usize,
+    pub steps: u64,
+    pub dt: f64,
+    pub steady_windows: usize,
+    pub run_seconds: f64,
+    pub relax_seconds: f64,
+}
+
+/// Relaxes the sample and runs `cfg` into `out` (both resumable from their progress files there).
+pub fn run_sliding(
+    cfg: &SlidingConfig,
+    out: &Path,
+    par: Parallelism,
+    report: &mut dyn FnMut(u64, u64),
+) -> Result<SlidingSummary> {
+    cfg.validate()?;
+    std::fs::create_dir_all(out).map_err(|e| ValidationError::io(out, e))?;
+    let model = cfg.model()?;
+    // Eq 11: pairs larger than d_m = d* / 8 break at delta_e, where gamma no longer enters (see
+    // `dem::scenario::sliding`); at d_m below the smallest pair (1.5 d0) d* has no effect at all.
+    let d_m_over_d0 = cfg.d_star()? / 8.0 / cfg.d0();
+    if d_m_over_d0 < 2.5 {
+        tracing::warn!(
+            d_m_over_d0,
+            "eq 11 of paper 004 fails for pairs above d_m = d*/8: they break at delta_e and gamma \
+             (hence d*) does not enter them{}",
+            if d_m_over_d0 < 1.5 {
+                " (every pair here: d* has no effect)"
+            } else {
+                ""
+            }
+        );
+    }
+    let t = std::time::Instant::now();
+    let relax_progress = ProgressFile::new(out.join("relax.progress.json"));
+    let sample = make_sample_resumable(
+        &cfg.recipe()?,
+        &model,
+        &cfg.relax,
+        par,
+        Some(&relax_progress),
+    )?;
+    progress::remove(&relax_progress.path)?;
+    let relax_seconds = t.elapsed().as_secs_f64();
+    let run_progress = ProgressFile::new(out.join("sliding.progress.json"));
+    let dump = (cfg.dump_frames > 0).then(|| out.join("sliding.dump"));
+    let r = run_resumable(
+        &sample,
+        &model,
+        cfg,
+        par,
+        dump.as_deref(),
+        Some(&run_progress),
+        report,
+    )?;
+    let summary = SlidingSummary {
+        rho_tbl: r.rho_tbl,
+        h_tbl: r.h_tbl,
+        p_t: r.p_t,
+        p_n: r.p_n,
+        regime: r.regime,
+        tau_m: r.tau_m,
+        p_t_over_tau_rho: r.p_t / (r.tau_m * r.rho_tbl),
+        strength: cfg.material.strength,
+        surface_energy: cfg.surface_energy()?,
+        d_star: r.d_star,
+        d_m_over_d0: r.d_m_over_d0,
+        d0_over_l: cfg.d0_over_l,
+        distance_over_l: cfg.distance_over_l,
+        particles: r.particles,
+        steps: r.steps,
+        dt: r.dt,
+        steady_windows: r.steady_windows,
+        run_seconds: r.wall_seconds,
+        relax_seconds,
+    };
+    write_outputs(out, cfg, &r, &summary)?;
+    progress::remove(&run_progress.path)?;
+    Ok(summary)
+}
+
+/// Runs every config of a grid as cached jobs under `out/runs/` and writes `out/grid.csv`; `None`
+/// where another (non-concurrent) shard's job is not done yet.
+pub fn run_grid(
+    runs: &[SlidingConfig],
+    out: &Path,
+    how: &RunJobs,
+) -> Result<Vec<Option<SlidingSummary>>> {
+    let cache = JobCache::new(out.join("runs"));
+    let results = run_jobs(&cache, runs, how, |cfg, dir| {
+        run_sliding(cfg, dir, Parallelism::Sequential, &mut |_, _| {})
+    })?;
+    let mut csv = String::from(
+        "p_n,strength,d_star,rho_tbl,h_tbl,p_t,tau_m,p_t_over_tau_rho,regime,particles,run_seconds,key\n",
+    );
+    for (cfg, r) in runs.iter().zip(&results) {
+        let key = JobCache::key(cfg)?;
+        let line = match r {
+            Some(s) => writeln!(
+                csv,
+                "{},{},{},{},{},{},{},{},{},{},{},{}",
+                s.p_n,
+                s.strength,
+                s.d_star,
+                s.rho_tbl,
+                s.h_tbl,
+                s.p_t,
+                s.tau_m,
+                s.p_t_over_tau_rho,
+                s.regime.label(),
+                s.particles,
+                s.run_seconds,
+                key.0
+            ),
+            None => writeln!(
+                csv,
+                "{},{},{},,,,,,pending,,,{}",
+                cfg.pressure,
+                cfg.material.strength,
+                cfg.d_star()?,
+                key.0
+            ),
+        };
+        line.expect("writing to a String");
+    }
+    write_atomic(&out.join("grid.csv"), csv.as_bytes())?;
+    Ok(results)
+}
+
+fn json(path: &Path, v: &impl Serialize) -> Result<()> {
+    let bytes = serde_json::to_vec_pretty(v).map_err(|e| ValidationError::Config {
+        path: path.display().to_string(),
+        reason: e.to_string(),
+    })?;
+    write_atomic(path, &bytes)?;
+    Ok(())
+}
+
+#[derive(Serialize)]
+struct SummaryFile<'a> {
+    #[serde(flatten)]
+    summary: &'a SlidingSummary,
+    config: &'a SlidingConfig,
+    layer: &'a wear::tbl::LayerMeasures,
+}
+
+fn write_outputs(
+    out: &Path,
+    cfg: &SlidingConfig,
+    r: &SlidingResult,
+    summary: &SlidingSummary,
+) -> Result<()> {
+    json(
+        &out.join("summary.json"),
+        &SummaryFile {
+            summary,
+            config: cfg,
+            layer: &r.layer,
+        },
+    )?;
+    let centres = r.profile.centres();
+    let mut csv =
+        String::from("y_over_h,velocity_over_v0,density_over_rho0,density_filtered,gauss_fit\n");
+    for (k, y) in centres.iter().enumerate() {
+        let v = r.profile.velocity_over_v0[k].map_or(String::new(), |v| v.to_string());
+        writeln!(
+            csv,
+            "{y},{v},{},{},{}",
+            r.profile.density[k] / r.rho0,
+            r.layer.density_filtered[k],
+            r.layer.fit.at(*y)
+        )
+        .expect("writing to a String");
+    }
+    write_atomic(&out.join("profiles.csv"), csv.as_bytes())?;
+    let mut csv = String::from("step,time,slide_over_l,height,h_tbl,rho_tbl\n");
+    for w in &r.windows {
+        let opt = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
+        writeln!(
+            csv,
+            "{},{},{},{},{},{}",
+            w.step,
+            w.time,
+            w.slide / cfg.length,
+            w.height,
+            opt(w.h_tbl),
+            opt(w.rho_tbl)
+        )
+        .expect("writing to a String");
+    }
+    write_atomic(&out.join("windows.csv"), csv.as_bytes())?;
+    let mut csv = String::from("step,time,slide,fx_top,fy_top,fx_bottom,fy_bottom,p_t\n");
+    for (a, b) in r.force_top.iter().zip(&r.force_bottom) {
+        writeln!(
+            csv,
+            "{},{},{},{},{},{},{},{}",
+            a.step,
+            a.time,
+            a.displacement[0],
+            a.force[0],
+            a.force[1],
+            b.force[0],
+            b.force[1],
+            wear::tbl::shear_traction(a.force[0], b.force[0], r.area)
+        )
+        .expect("writing to a String");
+    }
+    write_atomic(&out.join("force.csv"), csv.as_bytes())?;
+    draw_profiles(&out.join("profiles.png"), r)?;
+    draw_h_tbl(&out.join("h_tbl.png"), r, cfg.length, cfg.regime.window)?;
+    draw_snapshot(&out.join("snapshot.png"), r)?;
+    Ok(())
+}
