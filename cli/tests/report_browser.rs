@@ -1,7 +1,7 @@
 //! `cgdem report` opened in a real headless browser (Debian's Chromium, installed by
 //! `scripts/setup-browser`, which `scripts/test` runs): every figure renders with a non-zero size,
 //! the summary table is there with one row per claim, the page logs no error and fetches nothing. The
-//! report is built from cheap cases (force laws, two-particle checks, a wear placeholder) and kept,
+//! report is built from cheap cases (force laws, two-particle checks, plastic wear) and kept,
 //! with the browser's screenshot beside it, in `target/tmp/report-browser/`.
 //!
 //! How the page is measured: a copy of `report.html` gets a short script at the top of its `<head>`
@@ -84,7 +84,7 @@ fn the_report_renders_in_a_real_browser_without_errors() {
             "--profile",
             "quick",
             "--only",
-            "force-laws,two-particle,wear-sliding",
+            "force-laws,two-particle,wear-impact",
             "--out",
         ])
         .arg(&dir)

@@ -1,7 +1,7 @@
-//! The report end to end on its cheap sections (force laws, two-particle checks, a wear
-//! placeholder): the files it writes, the summary's columns, every claim's measured value found in
+//! The report end to end on its cheap sections (force laws, two-particle checks): the files it writes, the summary's columns, every claim's measured value found in
 //! the CSV of the figure that plots it, and a rerun that reuses every case from the cache; then the
-//! junction section (quick profile: two runs and a d* search at d0 = 6 nm, about 80 s).
+//! junction section (quick profile: two runs and a d* search at d0 = 6 nm, about 80 s) and the
+//! sliding section (five quick runs of paper 004 Fig. 6, about a minute).
 
 use std::path::{Path, PathBuf};
 
@@ -37,7 +37,7 @@ fn rows(path: &Path) -> Vec<Vec<String>> {
 #[test]
 fn cheap_sections_write_a_consistent_report_and_rerun_from_the_cache() {
     let out = scratch("cheap");
-    let only = ["force-laws", "two-particle", "wear-sliding"];
+    let only = ["force-laws", "two-particle"];
     let w = run(&options(&out, &only), &Silent).unwrap();
     assert!(w.failed_sections().is_empty(), "{:?}", w.failed_sections());
     assert!(w.cases_run > 10, "{} cases ran", w.cases_run);
@@ -103,7 +103,6 @@ fn cheap_sections_write_a_consistent_report_and_rerun_from_the_cache() {
         html.matches("src=\"data:").count()
     );
     assert!(html.matches("QUICK PROFILE").count() > only.len());
-    assert!(html.contains("Not on main yet"));
     for key in [
         "git revision",
         "LAMMPS version",
@@ -179,6 +178,56 @@ fn the_junction_section_reports_its_runs_and_search_consistently() {
     assert_eq!(html.matches("src=\"data:image/png;base64,").count(), 2);
     let csv = rows(&out.join("figures").join("junction-outcomes.csv"));
     assert!(csv.iter().any(|r| r[1] == "plastic smoothing"));
+    let again = run(&options(&out, &only), &Silent).unwrap();
+    assert_eq!(again.cases_run, 0);
+    std::fs::remove_dir_all(&out).unwrap();
+}
+
+#[test]
+fn the_sliding_section_reports_the_trends_of_fig_6_from_its_runs() {
+    let out = scratch("sliding");
+    let only = ["wear-sliding"];
+    let w = run(&options(&out, &only), &Silent).unwrap();
+    assert!(w.failed_sections().is_empty(), "{:?}", w.failed_sections());
+    let claims: Vec<_> = w.claims().collect();
+    // Each trend claim is the ratio of two points of its figure's data.
+    let csv = rows(&out.join("figures").join("sliding-rho.csv"));
+    let y = |panel: &str, series: &str, x: f64| -> f64 {
+        let r = csv[1..]
+            .iter()
+            .find(|r| r[0] == panel && r[1] == series && r[3].parse::<f64>().unwrap() == x)
+            .unwrap_or_else(|| panic!("no point {series} at {x} in {panel}"));
+        r[4].parse().unwrap()
+    };
+    for (item, panel, series, lo, hi) in [
+        (
+            "Fig. 6a",
+            "rho_TBL against p_N (Fig. 6a)",
+            "sigma_m = 0.1 E",
+            0.01,
+            0.04,
+        ),
+        (
+            "Fig. 6b",
+            "rho_TBL against sigma_m at fixed d* (Fig. 6b)",
+            "p_N = 0.01 E",
+            0.1,
+            0.2,
+        ),
+    ] {
+        let c = claims
+            .iter()
+            .find(|c| c.item == item)
+            .unwrap_or_else(|| panic!("no {item} claim"));
+        let ratio = y(panel, series, hi) / y(panel, series, lo);
+        assert_eq!(ratio.to_bits(), c.measured.to_bits(), "{c:?}");
+    }
+    // One p_T row per run, each a finite ratio.
+    let pt: Vec<_> = claims.iter().filter(|c| c.item == "section 3").collect();
+    assert_eq!(pt.len(), 5);
+    assert!(pt.iter().all(|c| c.measured.is_finite()), "{pt:?}");
+    let html = std::fs::read_to_string(&w.html).unwrap();
+    assert_eq!(html.matches("src=\"data:image/png;base64,").count(), 2);
     let again = run(&options(&out, &only), &Silent).unwrap();
     assert_eq!(again.cases_run, 0);
     std::fs::remove_dir_all(&out).unwrap();

@@ -99,6 +99,36 @@ pub fn page(
     h
 }
 
+/// Standard base64 (RFC 4648, with padding), for images inlined in the page.
+pub fn base64(bytes: &[u8]) -> String {
+    const T: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut s = String::with_capacity(bytes.len().div_ceil(3) * 4);
+    for c in bytes.chunks(3) {
+        let n = (c[0] as u32) << 16
+            | (*c.get(1).unwrap_or(&0) as u32) << 8
+            | *c.get(2).unwrap_or(&0) as u32;
+        for k in 0..4 {
+            if k <= c.len() {
+                s.push(T[(n >> (18 - 6 * k) & 63) as usize] as char);
+            } else {
+                s.push('=');
+            }
+        }
+    }
+    s
+}
+
+/// An `<img>` holding the PNG file at `path` inline (the page stays self-contained), or an error
+/// naming the file.
+pub fn png_img(path: &std::path::Path, alt: &str) -> crate::Result<String> {
+    let png = std::fs::read(path).map_err(|e| crate::ValidationError::io(path, e))?;
+    Ok(format!(
+        "<img alt=\"{}\" style=\"max-width:100%\" src=\"data:image/png;base64,{}\">",
+        esc(alt),
+        base64(&png)
+    ))
+}
+
 fn strip_xml_header(svg: &str) -> &str {
     svg.find("<svg").map_or(svg, |i| &svg[i..])
 }

@@ -8,8 +8,8 @@ pub mod md;
 pub mod patch;
 pub mod performance;
 pub mod plastic;
+pub mod sliding;
 pub mod two_particle;
-pub mod wear;
 
 use super::Section;
 
@@ -25,7 +25,7 @@ pub fn all() -> Vec<Section> {
         md::MODEL,
         performance::SECTION,
         junction::SECTION,
-        wear::SLIDING,
+        sliding::SECTION,
         plastic::SECTION,
     ]
 }

@@ -118,8 +118,9 @@ fn run(ctx: &Context) -> Result<SectionOutput> {
     let html = format!(
         "<p>{} spheres, {} steps per side, measured {} UTC (cached: a rerun shows this measurement; \
          clear the case cache to measure again). Ratio per core {}x. <code>cgdem bench --repeats 5</code> \
-         gives medians over rounds.</p>\n<p><b>Not on main yet:</b> the junction runs against paper 000 \
-         Table 6 (DEM d0 = 1.5 nm, 6 000 particles, 10 ns in 4 min on 28 cores) arrive with the junction scenario.</p>\n",
+         gives medians over rounds; <code>cgdem bench --workload amorphous</code> times paper 000's silica \
+         recipe (sizes 0.75-5 d0). The junction runs against paper 000 Table 6 are in the junction \
+         section.</p>\n",
         t.particles, steps, t.date, sig(ratio, 3)
     );
     Ok(SectionOutput {
