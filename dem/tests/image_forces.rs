@@ -1,7 +1,7 @@
 //! Pair forces in periodic boxes thinner than two interaction ranges, against a brute-force sum over
 //! every periodic image. There a pair can interact through two images at once (directly and across
-//! the boundary), as in paper 004's L x L x 3 d0 samples with delta_f = 0.4 d0 (range up to 1.65 d0
-//! > 1.5 d0); the neighbour list keeps one entry per (i, j, image), and this checks that the forces
+//! the boundary), as in paper 004's L x L x 3 d0 samples with delta_f = 0.4 d0 (ranges up to
+//! 1.65 d0, above 1.5 d0); the neighbour list keeps one entry per (i, j, image), and this checks that the forces
 //! and the virial count each image within range exactly once, for one thread and several.
 
 use dem::force::normal_force;
