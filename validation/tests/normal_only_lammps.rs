@@ -62,9 +62,10 @@ fn normal_only_forces_and_virial_agree_with_lammps_lepton_sphere() {
     let spec = SampleSpec::Amorphous {
         d0_over_dc: 2.0,
         l_over_d0: 8.0,
-        // 4 d0, not paper 004's 3 d0: the periodic width must exceed twice the longest range
-        // (2 x 1.65 d0 with delta_f = 0.4 d0), or a pair interacts through two images at once.
-        w_over_d0: 4.0,
+        // Paper 004's 3 d0: the longest range (1.65 d0 with delta_f = 0.4 d0) exceeds half the
+        // width, so some pairs interact through two periodic images at once; LAMMPS counts them
+        // through its ghosts, the engine through one neighbour-list entry per image.
+        w_over_d0: 3.0,
         h_over_d0: None,
         ds_over_d0: 0.75,
         dl_over_d0: 1.25,
@@ -132,31 +133,55 @@ fn compare(p: &dem::Particles, bx: &dem::SimBox, d_c_target: f64) -> [usize; 3] 
     let f_dem = sim.forces().to_vec();
     let stress = sim.virial_stress(None, None);
 
-    // Branch coverage and the per-particle force scale, by brute force over periodic images.
+    // Brute force over periodic images: the force on each particle, its scale (the sum of its pair
+    // force magnitudes), the branch coverage, the longest interacting centre distance and the pairs
+    // met through two images. Positions are wrapped and the engine refuses a periodic length below
+    // one range, so images -1..=1 along each axis hold every image within range.
     let coef = |ri: f64, rj: f64| model.params(ri, rj, 1.0, 1.0);
     let (mut compressive, mut elastic, mut softening) = (0, 0, 0);
+    let (mut reach, mut multi) = (0.0f64, 0);
     let mut scale = vec![0.0f64; n];
+    let mut f_brute = vec![Vec3::zeros(); n];
     for i in 0..n {
         for j in 0..n {
-            if i == j {
-                continue;
-            }
-            let r = bx.min_image(&p.pos[j], &p.pos[i]).norm();
             let pp = coef(p.radius[i], p.radius[j]);
-            let x = r - p.radius[i] - p.radius[j];
-            if x > pp.delta_f {
-                continue;
-            }
-            let f = dem::force::cohesive::normal_force(&pp, x);
-            scale[i] += f.abs();
-            if i < j {
-                match x {
-                    x if x < 0.0 => compressive += 1,
-                    x if x <= pp.delta_e => elastic += 1,
-                    _ => softening += 1,
+            let mut images = 0;
+            for s in (0..27).map(|c: i8| [c % 3 - 1, c / 3 % 3 - 1, c / 9 - 1]) {
+                if i == j && s == [0, 0, 0] {
+                    continue;
+                }
+                let d = p.pos[j] + bx.shift(s) - p.pos[i];
+                let r = d.norm();
+                let x = r - p.radius[i] - p.radius[j];
+                if x > pp.delta_f {
+                    continue;
+                }
+                let f = dem::force::cohesive::normal_force(&pp, x);
+                f_brute[i] += f * d / r;
+                scale[i] += f.abs();
+                reach = reach.max(r);
+                images += 1;
+                if i < j {
+                    match x {
+                        x if x < 0.0 => compressive += 1,
+                        x if x <= pp.delta_e => elastic += 1,
+                        _ => softening += 1,
+                    }
                 }
             }
+            if i < j && images > 1 {
+                multi += 1;
+            }
         }
+    }
+    for i in 0..n {
+        let tol = 1e-10 * f_brute[i].norm().max(scale[i] / 100.0);
+        assert!(
+            (f_dem[i] - f_brute[i]).norm() <= tol,
+            "particle {i}: engine {:?} brute force over images {:?}",
+            f_dem[i],
+            f_brute[i]
+        );
     }
 
     // LAMMPS: the same particles from a data file, the law as a Lepton energy.
@@ -187,8 +212,28 @@ fn compare(p: &dem::Particles, bx: &dem::SimBox, d_c_target: f64) -> [usize; 3] 
     }
     std::fs::write(&data, text).unwrap();
     let d_c = 4.0 * gamma * e / (sigma * sigma);
+    // LAMMPS's global cutoff: the longest pair range. delta_f is 4 gamma / sigma_m below d_c and
+    // d sigma_m / E above (eq 10), non-decreasing in d, so the longest range is that of the largest
+    // pair, d = 2 r_max. (4 gamma / sigma_m alone, as before, is short when 2 r_max > d_c: with
+    // d_c = d0 / 2 it dropped a pair at 1.361 d0 > 1.336 d0, 0.126 of force, in the 3 d0 sample.)
     let r_max = p.radius.iter().cloned().fold(0.0, f64::max);
-    let cutoff = 2.0 * r_max + 4.0 * gamma / sigma + 1e-6;
+    let d_max = 2.0 * r_max;
+    let df_max = if d_max >= d_c {
+        d_max * sigma / e
+    } else {
+        4.0 * gamma / sigma
+    };
+    assert!(
+        (d_max + df_max - model.cutoff(r_max, r_max)).abs() <= 1e-12,
+        "the test's longest range {} against the engine's {}",
+        d_max + df_max,
+        model.cutoff(r_max, r_max)
+    );
+    let cutoff = d_max + df_max + 1e-6;
+    assert!(
+        reach < cutoff,
+        "a pair interacts at {reach}, beyond the LAMMPS cutoff {cutoff}"
+    );
     let energy = format!(
         "step(de-x)*0.5*k*x^2 + step(x-de)*step(df-x)*select(step(df-de-1e-14), \
          0.5*k*de^2 + k*de/max(df-de,1e-300)*(df*(x-de) - 0.5*(x^2-de^2)), 0); \
@@ -240,8 +285,9 @@ fn compare(p: &dem::Particles, bx: &dem::SimBox, d_c_target: f64) -> [usize; 3] 
         );
     }
     eprintln!(
-        "d_c = {d_c_target} d0: {n} particles, pairs {compressive}/{elastic}/{softening} (compressive/elastic/softening), \
-         worst relative force difference {worst:.2e}, stress max {smax:.3e}"
+        "d_c = {d_c_target} d0: {n} particles, pair images {compressive}/{elastic}/{softening} (compressive/elastic/softening), \
+         {multi} pairs through two images, LAMMPS cutoff {cutoff:.4}, worst relative force difference {worst:.2e}, \
+         stress max {smax:.3e}"
     );
     std::fs::remove_dir_all(&dir).ok();
     [compressive, elastic, softening]
