@@ -2,6 +2,8 @@
 //! configuration (defaults are the papers' values) and a typed result, deterministic for a given sample
 //! and model, returning errors rather than panicking.
 //! - [`rig`]: the shared ground: a sample between two rigid walls along a chosen axis;
+//! - [`driven`]: the top wall dragged under pressure, and the resumable observed run the junction and
+//!   the sliding layer share;
 //! - [`patch`]: the patch tests of paper 000 section 3 (elastic constants, tensile and shear strength,
 //!   fracture energy), the inner loop of the calibration;
 //! - [`junction`]: junction shear of paper 000 section 4, plastic smoothing or a rolling wear particle;
@@ -9,6 +11,7 @@
 //!   of non-interacting spheres, with its own contact loop;
 //! - [`sliding`]: sliding with a third-body layer (paper 004), its profiles, rho_TBL, p_T and regime.
 
+pub mod driven;
 pub mod junction;
 pub mod patch;
 pub mod plastic;

@@ -35,8 +35,9 @@ use wear::ClassifyParams;
 use crate::error::{DemError, Result};
 use crate::sample::RelaxConfig;
 
+pub use crate::scenario::driven::Snapshot;
 pub use geometry::{build, Geometry, BODY_LOWER, BODY_UPPER};
-pub use run::{run, run_resumable, JunctionResult, Snapshot};
+pub use run::{run, run_resumable, JunctionResult};
 
 /// A junction shear run, in the engine's length, time and stress units.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

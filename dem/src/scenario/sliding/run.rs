@@ -2,7 +2,6 @@
 //! measures of the steady state.
 
 use std::path::Path;
-use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 use wear::tbl::{
@@ -12,16 +11,13 @@ use wear::tbl::{
 
 use super::{build, SlidingConfig};
 use crate::error::{DemError, Result};
-use crate::io::checkpoint::Checkpoint;
-use crate::io::progress::{self, ProgressFile, SaveClock};
+use crate::io::progress::{self, ProgressFile};
 use crate::material::PairModel;
 use crate::observe::{Dump, ForceSample, GroupForce, Observer};
 use crate::sample::Sample;
-use crate::scenario::junction::Snapshot;
+use crate::scenario::driven::{self, dump_for, sliding_top, Recorders, Schedule, Snapshot};
 use crate::scenario::rig::{Rig, RigSpec, BOTTOM, TOP};
 use crate::sim::{Parallelism, RunConfig, Simulation, TimeStep};
-use crate::walls::{AxisControl, RigidMotion};
-use crate::Vec3;
 
 /// Colour bands of the initial height in dumps and snapshots (Fig. 3 colours by initial height).
 pub const HEIGHT_BANDS: u32 = 20;
@@ -172,19 +168,22 @@ pub struct SlidingResult {
     /// Every particle at the start and the end (`body` holds the initial-height band).
     pub first: Snapshot,
     pub last: Snapshot,
-    /// Wall-clock seconds of the run (relaxation excluded), summed over resumed parts.
+    /// Wall-clock seconds of the stepping (relaxation and set-up excluded), summed over resumed parts.
     pub wall_seconds: f64,
 }
 
-/// What a run has done so far: enough to continue it exactly.
+/// What a sliding run records: the profiles and the forces on both bodies.
 #[derive(Debug, Clone, Serialize, Deserialize)]
-struct Progress {
-    sim: Checkpoint,
+struct Records {
     probe: ProfileProbe,
     top: GroupForce,
     bottom: GroupForce,
-    dump: Option<Dump>,
-    seconds: f64,
+}
+
+impl Recorders for Records {
+    fn observers(&mut self) -> Vec<&mut dyn Observer> {
+        vec![&mut self.probe, &mut self.top, &mut self.bottom]
+    }
 }
 
 /// [`run_resumable`] without a progress file.
@@ -212,7 +211,6 @@ pub fn run_resumable(
     progress: Option<&ProgressFile>,
     report: &mut dyn FnMut(u64, u64),
 ) -> Result<SlidingResult> {
-    let t0 = Instant::now();
     SlidingConfig::check_model(model)?;
     let geo = build(relaxed, cfg)?;
     let d0 = cfg.d0();
@@ -228,14 +226,7 @@ pub fn run_resumable(
         par,
     )?;
     let v0 = cfg.velocity();
-    rig.set_top(RigidMotion {
-        axes: [
-            AxisControl::Velocity(v0),
-            AxisControl::Traction(-cfg.pressure),
-            AxisControl::Velocity(0.0),
-        ],
-        velocity: Vec3::new(v0, 0.0, 0.0),
-    });
+    rig.set_top(sliding_top(v0, cfg.pressure));
     let dt = rig.sim.dt();
     let total = cfg.steps(dt);
     let every = (total / (cfg.windows * cfg.samples_per_window)).max(1);
@@ -264,22 +255,16 @@ pub fn run_resumable(
     let roles: Vec<u8> = (0..p.len())
         .map(|i| if rig.free[i] { 0 } else { 2 })
         .collect();
-    let first = snapshot(&rig.sim, &band, &roles);
-    let key = progress::key(&(cfg, model), relaxed)?;
-    let saved = progress.and_then(|f| progress::load::<Progress>(&f.path, &key));
-    let mut st = match saved {
-        Some(p) => {
-            rig.sim = Simulation::from_checkpoint(p.sim.clone(), par)?;
-            if let Some(d) = &p.dump {
-                d.truncate_to_recorded()?;
-            }
-            tracing::info!(
-                step = rig.sim.step_count(),
-                "sliding run resumed from its progress file"
-            );
-            p
-        }
-        None => Progress {
+    let first = Snapshot::of(&rig.sim, &band, &roles);
+    let schedule = Schedule {
+        name: "sliding",
+        total,
+        chunk: window_steps,
+        progress,
+        key: progress::key(&(cfg, model), relaxed)?,
+    };
+    let fresh = |sim: &Simulation| -> Result<(Records, Option<Dump>)> {
+        let records = Records {
             probe: ProfileProbe {
                 every,
                 per_window: cfg.samples_per_window,
@@ -298,51 +283,19 @@ pub fn run_resumable(
                 steady: ProfileSums::new(cfg.bins),
                 windows: Vec::new(),
             },
-            top: GroupForce::new(&rig.sim, top.clone(), force_every)?,
-            bottom: GroupForce::new(&rig.sim, bottom.clone(), force_every)?,
-            dump: match (dump, cfg.dump_frames) {
-                (Some(path), n) if n > 0 => Some(Dump::new(
-                    &rig.sim,
-                    path.to_path_buf(),
-                    vec![
-                        ("half".to_string(), geo.body.clone()),
-                        ("height0".to_string(), band.clone()),
-                    ],
-                    (total / n).max(1),
-                )?),
-                _ => None,
-            },
-            sim: rig.sim.checkpoint(),
-            seconds: 0.0,
-        },
+            top: GroupForce::new(sim, top.clone(), force_every)?,
+            bottom: GroupForce::new(sim, bottom.clone(), force_every)?,
+        };
+        let dump = dump_for(sim, dump, cfg.dump_frames, total, || {
+            vec![
+                ("half".to_string(), geo.body.clone()),
+                ("height0".to_string(), band.clone()),
+            ]
+        })?;
+        Ok((records, dump))
     };
-    let mut clock = SaveClock::new();
-    let save = |st: &mut Progress, sim: &Simulation, f: &ProgressFile| -> Result<()> {
-        st.sim = sim.checkpoint();
-        let mut copy = st.clone();
-        copy.seconds += t0.elapsed().as_secs_f64();
-        progress::save(&f.path, &key, &copy)
-    };
-    while rig.sim.step_count() < total {
-        let chunk =
-            (window_steps - rig.sim.step_count() % window_steps).min(total - rig.sim.step_count());
-        let mut observers: Vec<&mut dyn Observer> =
-            vec![&mut st.probe, &mut st.top, &mut st.bottom];
-        if let Some(d) = st.dump.as_mut() {
-            observers.push(d);
-        }
-        if let Err(e) = rig.sim.run_observed(chunk, &mut observers) {
-            if let (DemError::Interrupted { .. }, Some(f)) = (&e, progress) {
-                save(&mut st, &rig.sim, f)?;
-                tracing::info!(path = %f.path.display(), "sliding progress saved: rerun to continue");
-            }
-            return Err(e);
-        }
-        report(rig.sim.step_count(), total);
-        if let Some(f) = progress.filter(|f| clock.due(f.every)) {
-            save(&mut st, &rig.sim, f)?;
-        }
-    }
+    let recorded = driven::run_resumable(&mut rig.sim, par, schedule, fresh, report)?;
+    let st = recorded.records;
     let steady_windows: Vec<&WindowRecord> = st
         .probe
         .windows
@@ -385,7 +338,7 @@ pub fn run_resumable(
     )
     .map_err(|e| DemError::InvalidConfig(format!("sliding regime: {e}")))?;
     let d_star = cfg.d_star()?;
-    let last = snapshot(&rig.sim, &band, &roles);
+    let last = Snapshot::of(&rig.sim, &band, &roles);
     Ok(SlidingResult {
         particles: rig.sim.particles.len(),
         body_particles: top.len() + bottom.len(),
@@ -413,20 +366,6 @@ pub fn run_resumable(
         regime,
         first,
         last,
-        wall_seconds: st.seconds + t0.elapsed().as_secs_f64(),
+        wall_seconds: recorded.wall_seconds,
     })
-}
-
-fn snapshot(sim: &Simulation, band: &[u32], role: &[u8]) -> Snapshot {
-    let p = &sim.particles;
-    let b = &sim.sim_box;
-    Snapshot {
-        step: sim.step_count(),
-        lo: [b.lo.x, b.lo.y, b.lo.z],
-        hi: [b.hi.x, b.hi.y, b.hi.z],
-        pos: p.pos.iter().map(|x| [x.x, x.y, x.z]).collect(),
-        radius: p.radius.clone(),
-        body: band.to_vec(),
-        role: role.to_vec(),
-    }
 }
