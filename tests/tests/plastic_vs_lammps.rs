@@ -7,7 +7,6 @@
 //! (fails, never skips, without it).
 
 use std::path::PathBuf;
-use std::process::Command;
 
 use dem::scenario::plastic::lammps::{impact_deck, read_result, DATA_FILE};
 use dem::scenario::plastic::{run_impact, ImpactConfig};
@@ -35,27 +34,7 @@ fn lammps(cfg: &ImpactConfig, steps: u64, name: &str) -> [f64; 6] {
     let deck = impact_deck(cfg, steps).unwrap();
     std::fs::write(d.join("in.plastic"), &deck.input).unwrap();
     std::fs::write(d.join(DATA_FILE), &deck.data).unwrap();
-    let out = Command::new(venv.lmp_exe().unwrap())
-        .current_dir(&d)
-        .args([
-            "-screen",
-            "none",
-            "-nocite",
-            "-log",
-            "log.lammps",
-            "-in",
-            "in.plastic",
-        ])
-        .env("LD_LIBRARY_PATH", venv.root.join("lib"))
-        .env("OMP_NUM_THREADS", "1")
-        .output()
-        .unwrap();
-    let log = std::fs::read_to_string(d.join("log.lammps")).unwrap_or_default();
-    assert!(
-        out.status.success(),
-        "lmp failed: {}",
-        &log[log.len().saturating_sub(2000)..]
-    );
+    let log = venv.run_lmp(&d, "in.plastic", "log.lammps", 1).unwrap();
     let r = read_result(&log).expect("RESULT line");
     std::fs::remove_dir_all(&d).ok();
     r

@@ -31,8 +31,8 @@ use dem::{Material, PairModel, Parallelism, RunConfig, Simulation, UnitSystem, V
 use rand::{Rng, SeedableRng};
 use serde::Serialize;
 
-use super::lammps::System;
 use super::{BenchArgs, Prepared};
+use validation::bench::lammps::System;
 
 /// d0 / d_c: 1.5 nm for silica (d_c = 1.71 nm).
 const D0_OVER_DC: f64 = 0.877;

@@ -7,8 +7,8 @@ use anyhow::Result;
 use dem::RunConfig;
 use validation::bench::{model, packing, SPACING};
 
-use super::lammps::System;
 use super::Prepared;
+use validation::bench::lammps::System;
 
 pub(super) fn prepare(cells: usize) -> Result<Prepared> {
     // The same packing as the report's performance section (validation::bench).

@@ -21,7 +21,6 @@
 
 mod amorphous;
 mod hcp;
-mod lammps;
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -31,6 +30,7 @@ use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use dem::{PairModel, Parallelism, Particles, RunConfig, SimBox, Simulation};
 use md_bridge::venv::Venv;
+use validation::bench::lammps;
 
 /// What `cgdem bench` times.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -353,7 +353,14 @@ fn round(
     let input = match lammps_input {
         Some(p) => p.clone(),
         None => lammps_input
-            .insert(lammps::write_inputs(dir, prep, steps, dt_used)?)
+            .insert(lammps::write_inputs(
+                dir,
+                &prep.particles,
+                &prep.sim_box,
+                &prep.lammps,
+                steps,
+                dt_used,
+            )?)
             .clone(),
     };
     for &procs in &args.lammps_procs {

@@ -1,19 +1,20 @@
-//! The LAMMPS side of the bench: a data file of the workload's particles and an input running
-//! `pair_style gran/hooke/history` with `fix nve/sphere`, timed on 1 process or under the venv's
-//! `mpirun`. LAMMPS's granular styles compute overlapping pairs only, so each workload gives LAMMPS
-//! radii whose overlaps are the pairs cgdem computes ([`System::radius`]).
+//! The LAMMPS side of every bench (`cgdem bench`, both workloads, and the report's performance
+//! section): a data file of the particles and an input running `pair_style gran/hooke/history` with
+//! `fix nve/sphere`, timed on 1 process or under the venv's `mpirun`. LAMMPS's granular styles compute
+//! overlapping pairs only, so each workload gives LAMMPS radii whose overlaps are the pairs cgdem
+//! computes ([`System::radius`]).
 
-use std::io::Write;
+use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-use anyhow::{bail, Context, Result};
+use dem::{Particles, SimBox};
 use md_bridge::venv::Venv;
 
-use super::Prepared;
+use crate::{Result, ValidationError};
 
 /// What LAMMPS is given besides the positions and velocities.
-pub(crate) struct System {
+#[derive(Debug, Clone, PartialEq)]
+pub struct System {
     /// Radii as LAMMPS sees them.
     pub radius: Vec<f64>,
     /// Mass density written to the data file.
@@ -25,20 +26,35 @@ pub(crate) struct System {
     pub skin: f64,
 }
 
-/// Writes `bench.data` and `in.bench` into `dir`; returns the input's path.
-pub(crate) fn write_inputs(dir: &Path, prep: &Prepared, steps: u64, dt: f64) -> Result<PathBuf> {
-    let (p, bx, sys) = (&prep.particles, &prep.sim_box, &prep.lammps);
-    std::fs::create_dir_all(dir)?;
-    let data = dir.join("bench.data");
-    let mut f = std::io::BufWriter::new(std::fs::File::create(&data)?);
-    writeln!(f, "cgdem bench system\n\n{} atoms\n1 atom types\n", p.len())?;
-    for (a, name) in ["x", "y", "z"].iter().enumerate() {
-        writeln!(f, "{:.17e} {:.17e} {name}lo {name}hi", bx.lo[a], bx.hi[a])?;
+/// Writes `bench.data` and `in.bench` (one untimed step, then `steps` timed ones) into `dir`;
+/// returns the input's path. The input reads its data relative to `dir`, where [`time`] runs it.
+pub fn write_inputs(
+    dir: &Path,
+    p: &Particles,
+    bx: &SimBox,
+    sys: &System,
+    steps: u64,
+    dt: f64,
+) -> Result<PathBuf> {
+    if sys.radius.len() != p.len() {
+        return Err(ValidationError::Report(format!(
+            "LAMMPS bench: {} radii for {} particles",
+            sys.radius.len(),
+            p.len()
+        )));
     }
-    writeln!(f, "\nAtoms # sphere\n")?;
+    std::fs::create_dir_all(dir).map_err(|e| ValidationError::io(dir, e))?;
+    let data = dir.join("bench.data");
+    // Writing into a String cannot fail.
+    let mut f = String::new();
+    let _ = writeln!(f, "cgdem bench system\n\n{} atoms\n1 atom types\n", p.len());
+    for (a, name) in ["x", "y", "z"].iter().enumerate() {
+        let _ = writeln!(f, "{:.17e} {:.17e} {name}lo {name}hi", bx.lo[a], bx.hi[a]);
+    }
+    let _ = writeln!(f, "\nAtoms # sphere\n");
     for i in 0..p.len() {
         let x = p.pos[i];
-        writeln!(
+        let _ = writeln!(
             f,
             "{} 1 {:.17e} {:.17e} {:.17e} {:.17e} {:.17e}",
             i + 1,
@@ -47,34 +63,35 @@ pub(crate) fn write_inputs(dir: &Path, prep: &Prepared, steps: u64, dt: f64) -> 
             x.x,
             x.y,
             x.z
-        )?;
+        );
     }
-    writeln!(f, "\nVelocities\n")?;
+    let _ = writeln!(f, "\nVelocities\n");
     for i in 0..p.len() {
         let v = p.vel[i];
-        writeln!(f, "{} {:.17e} {:.17e} {:.17e} 0 0 0", i + 1, v.x, v.y, v.z)?;
+        let _ = writeln!(f, "{} {:.17e} {:.17e} {:.17e} 0 0 0", i + 1, v.x, v.y, v.z);
     }
-    f.flush()?;
+    std::fs::write(&data, f).map_err(|e| ValidationError::io(&data, e))?;
     let input = dir.join("in.bench");
     std::fs::write(
         &input,
         format!(
             "units lj\natom_style sphere\nboundary p p p\ncomm_modify vel yes\nnewton off\n\
-             read_data {data}\n\
+             read_data bench.data\n\
              pair_style gran/hooke/history {kn:.17e} {kt:.17e} 0.0 0.0 0.5 1\npair_coeff * *\n\
              neighbor {skin:.17e} bin\nneigh_modify delay 0 every 1 check yes\n\
              fix 1 all nve/sphere\ntimestep {dt:.17e}\nthermo 0\nrun 1\nrun {steps}\n",
-            data = data.display(),
             kn = sys.k_n,
             kt = sys.k_t,
             skin = sys.skin,
         ),
-    )?;
+    )
+    .map_err(|e| ValidationError::io(&input, e))?;
     Ok(input)
 }
 
 /// A timed LAMMPS run.
-pub(crate) struct Run {
+#[derive(Debug, Clone, PartialEq)]
+pub struct Run {
     /// Loop seconds of the timed run.
     pub secs: f64,
     pub atoms: usize,
@@ -85,48 +102,35 @@ pub(crate) struct Run {
     pub builds: Option<u64>,
 }
 
-/// Runs LAMMPS from `venv` on `procs` processes.
-pub(crate) fn time(venv: &Venv, input: &Path, steps: u64, procs: usize) -> Result<Run> {
-    let exe = venv.lmp_exe()?;
-    let log = input.with_file_name(format!("log.{procs}p.lammps"));
-    let mut cmd = if procs > 1 {
-        let mut c = Command::new(venv.mpirun());
-        c.arg("-np").arg(procs.to_string()).arg(&exe);
-        c
-    } else {
-        Command::new(&exe)
+/// Runs LAMMPS from `venv` on `procs` processes (under the venv's `mpirun` when more than one).
+pub fn time(venv: &Venv, input: &Path, steps: u64, procs: usize) -> Result<Run> {
+    let (dir, name) = match (input.parent(), input.file_name()) {
+        (Some(d), Some(n)) => (d, n.to_string_lossy()),
+        _ => {
+            return Err(ValidationError::Report(format!(
+                "LAMMPS bench: {} is not a file path",
+                input.display()
+            )))
+        }
     };
-    let out = cmd
-        .args(["-screen", "none", "-nocite", "-log"])
-        .arg(&log)
-        .arg("-in")
-        .arg(input)
-        .env("LD_LIBRARY_PATH", venv.root.join("lib"))
-        .env("OMP_NUM_THREADS", "1")
-        .output()
-        .with_context(|| format!("starting {}", exe.display()))?;
-    let text = std::fs::read_to_string(&log).unwrap_or_default();
-    if !out.status.success() {
-        bail!(
-            "lmp on {procs} process(es) failed ({}): {} {}",
-            out.status,
-            text.lines().rev().take(5).collect::<Vec<_>>().join(" | "),
-            String::from_utf8_lossy(&out.stderr)
-        );
-    }
-    parse_log(&text, steps)
+    let log = format!("log.{procs}p.lammps");
+    let text = venv
+        .run_lmp(dir, &name, &log, procs)
+        .map_err(|e| ValidationError::Report(format!("LAMMPS bench: {e}")))?;
+    parse_log(&text, steps).map_err(|e| ValidationError::Report(format!("{log}: {e}")))
 }
 
 /// Reads the timed (last) run's loop time, atoms, neighbour count and list builds from a log.
-fn parse_log(text: &str, steps: u64) -> Result<Run> {
+fn parse_log(text: &str, steps: u64) -> std::result::Result<Run, String> {
     // "Loop time of 12.3 on 1 procs for 300 steps with 51200 atoms": the last one is the timed run.
     let (at, line) = text
         .lines()
         .enumerate()
         .filter(|(_, l)| l.starts_with("Loop time of") && l.contains(&format!("for {steps} steps")))
         .last()
-        .context("no loop time in the LAMMPS log")?;
+        .ok_or("no loop time in the LAMMPS log")?;
     let w: Vec<&str> = line.split_whitespace().collect();
+    let bad = || format!("unreadable loop time line: {line}");
     let after = |key: &str| -> Option<u64> {
         text.lines()
             .skip(at)
@@ -135,8 +139,13 @@ fn parse_log(text: &str, steps: u64) -> Result<Run> {
             .and_then(|v| v.trim().parse().ok())
     };
     Ok(Run {
-        secs: w[3].parse()?,
-        atoms: w[w.len() - 2].parse()?,
+        secs: w.get(3).and_then(|v| v.parse().ok()).ok_or_else(bad)?,
+        atoms: w
+            .iter()
+            .rev()
+            .nth(1)
+            .and_then(|v| v.parse().ok())
+            .ok_or_else(bad)?,
         neighbors: after("Total # of neighbors"),
         builds: after("Neighbor list builds"),
     })
@@ -156,5 +165,6 @@ mod tests {
         assert_eq!((r.secs, r.atoms), (2.25, 384));
         assert_eq!((r.neighbors, r.builds), (Some(1152), Some(4)));
         assert!(parse_log(log, 500).is_err());
+        assert!(parse_log("Loop time of x on 1 procs for 300 steps with 9 atoms", 300).is_err());
     }
 }

@@ -6,9 +6,7 @@
 //! `fix nve/sphere` on 1 process, from the identical data file, with the same particle count, time step
 //! and number of steps. The figures are loop times (set-up excluded on both sides).
 
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 use std::time::Instant;
 
 use dem::sample::hcp::hcp_lattice;
@@ -18,6 +16,8 @@ use md_bridge::venv::Venv;
 use rand::{Rng, SeedableRng};
 
 use crate::{Result, ValidationError};
+
+pub mod lammps;
 
 /// Sphere diameter (lattice spacing): 0.6 d_c for Table 4, so delta_f = d/3 reaches neither the
 /// second shell nor beyond.
@@ -90,100 +90,23 @@ pub fn time_copies(copies: usize, steps: u64, cells: usize) -> Result<(f64, usiz
     Ok((slowest, n))
 }
 
+/// The LAMMPS inputs of the packing: the same data, with LAMMPS's radii equal to cgdem's (the
+/// packing's overlapping neighbours are exactly its pairs).
 pub fn write_lammps_inputs(dir: &Path, cells: usize, steps: u64, dt: f64) -> Result<PathBuf> {
     let (p, bx) = packing(cells)?;
-    let mdl = model();
-    let pp = mdl.params(p.radius[0], p.radius[0], p.mass[0], p.mass[0]);
-    std::fs::create_dir_all(dir).map_err(|e| ValidationError::io(dir, e))?;
-    let data = dir.join("hcp.data");
-    let mut f = String::new();
-    // Writing into a String cannot fail.
-    let _ = writeln!(
-        f,
-        "cgdem bench packing\n\n{} atoms\n1 atom types\n",
-        p.len()
-    );
-    for (a, name) in ["x", "y", "z"].iter().enumerate() {
-        let _ = writeln!(f, "{:.17e} {:.17e} {name}lo {name}hi", bx.lo[a], bx.hi[a]);
-    }
-    let _ = writeln!(f, "\nAtoms # sphere\n");
-    for i in 0..p.len() {
-        let x = p.pos[i];
-        let _ = writeln!(
-            f,
-            "{} 1 {:.17e} 1.0 {:.17e} {:.17e} {:.17e}",
-            i + 1,
-            2.0 * p.radius[i],
-            x.x,
-            x.y,
-            x.z
-        );
-    }
-    let _ = writeln!(f, "\nVelocities\n");
-    for i in 0..p.len() {
-        let v = p.vel[i];
-        let _ = writeln!(f, "{} {:.17e} {:.17e} {:.17e} 0 0 0", i + 1, v.x, v.y, v.z);
-    }
-    std::fs::write(&data, f).map_err(|e| ValidationError::io(&data, e))?;
-    let skin = RunConfig::default().skin_fraction * SPACING;
-    let input = dir.join("in.bench");
-    std::fs::write(
-        &input,
-        format!(
-            "units lj\natom_style sphere\nboundary p p p\ncomm_modify vel yes\nnewton off\n\
-             read_data {data}\n\
-             pair_style gran/hooke/history {kn:.17e} {kt:.17e} 0.0 0.0 0.5 1\npair_coeff * *\n\
-             neighbor {skin:.17e} bin\nneigh_modify delay 0 every 1 check yes\n\
-             fix 1 all nve/sphere\ntimestep {dt:.17e}\nthermo 0\nrun 1\nrun {steps}\n",
-            data = data.display(),
-            kn = pp.k_n,
-            kt = pp.k_t,
-        ),
-    )
-    .map_err(|e| ValidationError::io(&input, e))?;
-    Ok(input)
+    let pp = model().params(p.radius[0], p.radius[0], p.mass[0], p.mass[0]);
+    let sys = lammps::System {
+        radius: p.radius.clone(),
+        density: 1.0,
+        k_n: pp.k_n,
+        k_t: pp.k_t,
+        skin: RunConfig::default().skin_fraction * SPACING,
+    };
+    lammps::write_inputs(dir, &p, &bx, &sys, steps, dt)
 }
 
-/// Runs LAMMPS from `venv` and returns (loop seconds of the timed run, atoms).
+/// Runs LAMMPS from `venv` on 1 process and returns (loop seconds of the timed run, atoms).
 pub fn time_lammps(venv: &Venv, input: &Path, steps: u64) -> Result<(f64, usize)> {
-    let exe = venv.lmp_exe()?;
-    let log = input.with_file_name("log.lammps");
-    let out = Command::new(&exe)
-        .args(["-screen", "none", "-nocite", "-log"])
-        .arg(&log)
-        .arg("-in")
-        .arg(input)
-        .env("LD_LIBRARY_PATH", venv.root.join("lib"))
-        .env("OMP_NUM_THREADS", "1")
-        .output()
-        .map_err(|e| ValidationError::io(&exe, e))?;
-    let text = std::fs::read_to_string(&log).unwrap_or_default();
-    if !out.status.success() {
-        return Err(ValidationError::Report(format!(
-            "lmp failed ({}): {}",
-            out.status,
-            text.lines().rev().take(5).collect::<Vec<_>>().join(" | ")
-        )));
-    }
-    // "Loop time of 12.3 on 1 procs for 300 steps with 51200 atoms": the last one is the timed run.
-    let line = text
-        .lines()
-        .rev()
-        .find(|l| l.starts_with("Loop time of") && l.contains(&format!("for {steps} steps")))
-        .ok_or_else(|| ValidationError::Report(format!("no loop time in {}", log.display())))?;
-    let w: Vec<&str> = line.split_whitespace().collect();
-    let bad = || {
-        ValidationError::Report(format!(
-            "unreadable loop time line in {}: {line}",
-            log.display()
-        ))
-    };
-    let secs = w.get(3).and_then(|v| v.parse().ok()).ok_or_else(bad)?;
-    let atoms = w
-        .iter()
-        .rev()
-        .nth(1)
-        .and_then(|v| v.parse().ok())
-        .ok_or_else(bad)?;
-    Ok((secs, atoms))
+    let run = lammps::time(venv, input, steps, 1)?;
+    Ok((run.secs, run.atoms))
 }
