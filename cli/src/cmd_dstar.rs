@@ -8,8 +8,9 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use dem::jobs::{RunJobs, Shard};
 use validation::wear::dstar::{search, DstarFile};
+
+use crate::job_args::RunArgs;
 
 /// Arguments of `cgdem dstar`.
 #[derive(Debug, Args)]
@@ -19,12 +20,8 @@ pub struct DstarArgs {
     /// Output directory (also the cache of every run of the search).
     #[arg(long, default_value = "out/dstar")]
     pub out: PathBuf,
-    /// Runs side by side on this process (default: one per core, each single-threaded).
-    #[arg(long)]
-    pub jobs: Option<usize>,
-    /// This task's share i/n of a Slurm array (default: the launcher's rank, or everything).
-    #[arg(long)]
-    pub shard: Option<String>,
+    #[command(flatten)]
+    pub run: RunArgs,
 }
 
 /// Runs `cgdem dstar`.
@@ -34,17 +31,8 @@ pub fn run(args: DstarArgs, threads: usize) -> Result<()> {
     let material = file
         .resolve(base)
         .with_context(|| format!("in {}", args.config.display()))?;
-    let shard = match &args.shard {
-        Some(s) => Shard::parse(s)?,
-        None => Shard::from_env(),
-    };
-    let mut how = RunJobs {
-        shard,
-        ..RunJobs::default()
-    };
-    if let Some(n) = args.jobs {
-        how.at_once = n.max(1);
-    }
+    let how = args.run.resolve()?;
+    let shard = how.shard;
     if shard.count > 1 {
         tracing::info!(
             rank = shard.index,

@@ -8,8 +8,9 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::Args;
-use dem::jobs::{RunJobs, Shard};
 use validation::wear::sliding::{run_grid, run_sliding, SlidingFile};
+
+use crate::job_args::RunArgs;
 
 /// Arguments of `cgdem sliding`.
 #[derive(Debug, Args)]
@@ -19,12 +20,8 @@ pub struct SlidingArgs {
     /// Output directory.
     #[arg(long, default_value = "out/sliding")]
     pub out: PathBuf,
-    /// Grid runs side by side on this process (default: one per core, each single-threaded).
-    #[arg(long)]
-    pub jobs: Option<usize>,
-    /// This task's share i/n of a Slurm array (default: the launcher's rank, or everything).
-    #[arg(long)]
-    pub shard: Option<String>,
+    #[command(flatten)]
+    pub run: RunArgs,
 }
 
 /// Runs `cgdem sliding`.
@@ -66,17 +63,7 @@ pub fn run(args: SlidingArgs, threads: usize) -> Result<()> {
         println!("wrote {}", args.out.join("summary.json").display());
         return Ok(());
     }
-    let shard = match &args.shard {
-        Some(s) => Shard::parse(s)?,
-        None => Shard::from_env(),
-    };
-    let mut how = RunJobs {
-        shard,
-        ..RunJobs::default()
-    };
-    if let Some(n) = args.jobs {
-        how.at_once = n.max(1);
-    }
+    let how = args.run.resolve()?;
     tracing::info!(runs = runs.len(), at_once = how.at_once, "sliding grid");
     let results = run_grid(&runs, &args.out, &how)?;
     let done = results.iter().flatten().count();

@@ -1,5 +1,6 @@
-//! The options every command that runs a list of cached jobs shares (`cgdem impact`, `cgdem scratch`):
-//! where the cache is, how many jobs run side by side, and which share of the list this process takes
+//! The options every command that runs a list of cached jobs shares (`cgdem impact`, `cgdem scratch`,
+//! `cgdem dstar`, `cgdem sliding`): how many jobs run side by side, which share of the list this
+//! process takes, and (where the command does not keep its cache under its output) where the cache is
 //! (DESIGN.md section 7, `dem::jobs`).
 
 use std::path::{Path, PathBuf};
@@ -8,13 +9,9 @@ use anyhow::Result;
 use clap::Args;
 use dem::jobs::{JobCache, RunJobs, Shard};
 
-/// Cache, concurrency and shard of a list of jobs.
+/// Concurrency and shard of a list of jobs.
 #[derive(Debug, Args)]
-pub struct JobArgs {
-    /// Job cache (default OUT/jobs). Finished jobs are kept there by their inputs: a rerun, or
-    /// another config sharing jobs, reuses them.
-    #[arg(long)]
-    pub cache: Option<PathBuf>,
+pub struct RunArgs {
     /// Jobs run side by side (default: the machine's cores; each job is single-threaded).
     #[arg(long)]
     pub jobs: Option<usize>,
@@ -25,10 +22,9 @@ pub struct JobArgs {
     pub shard: Option<String>,
 }
 
-impl JobArgs {
-    /// The cache (under `out` unless given) and how the list runs.
-    pub fn resolve(&self, out: &Path) -> Result<(JobCache, RunJobs)> {
-        let cache = JobCache::new(self.cache.clone().unwrap_or_else(|| out.join("jobs")));
+impl RunArgs {
+    /// How the list runs.
+    pub fn resolve(&self) -> Result<RunJobs> {
         let mut how = RunJobs::default();
         if let Some(n) = self.jobs {
             how.at_once = n.max(1);
@@ -37,6 +33,25 @@ impl JobArgs {
             Some(s) => Shard::parse(s)?,
             None => Shard::from_env(),
         };
-        Ok((cache, how))
+        Ok(how)
+    }
+}
+
+/// Cache, concurrency and shard of a list of jobs.
+#[derive(Debug, Args)]
+pub struct JobArgs {
+    /// Job cache (default OUT/jobs). Finished jobs are kept there by their inputs: a rerun, or
+    /// another config sharing jobs, reuses them.
+    #[arg(long)]
+    pub cache: Option<PathBuf>,
+    #[command(flatten)]
+    pub run: RunArgs,
+}
+
+impl JobArgs {
+    /// The cache (under `out` unless given) and how the list runs.
+    pub fn resolve(&self, out: &Path) -> Result<(JobCache, RunJobs)> {
+        let cache = JobCache::new(self.cache.clone().unwrap_or_else(|| out.join("jobs")));
+        Ok((cache, self.run.resolve()?))
     }
 }
