@@ -22,6 +22,7 @@ use serde::{Deserialize, Serialize};
 use wear::outcome::Detachment;
 use wear::Outcome;
 
+use super::json;
 use crate::error::{Result, ValidationError};
 use crate::figures::junction::{draw_force, draw_snapshots};
 
@@ -219,15 +220,6 @@ pub fn run_junction(
     write_outputs(out, cfg, material, &r, &summary)?;
     progress::remove(&progress.path)?;
     Ok(summary)
-}
-
-fn json(path: &Path, v: &impl Serialize) -> Result<()> {
-    let bytes = serde_json::to_vec_pretty(v).map_err(|e| ValidationError::Config {
-        path: path.display().to_string(),
-        reason: e.to_string(),
-    })?;
-    write_atomic(path, &bytes)?;
-    Ok(())
 }
 
 fn write_outputs(

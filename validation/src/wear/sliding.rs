@@ -25,6 +25,7 @@ use dem::Parallelism;
 use serde::{Deserialize, Serialize};
 use wear::tbl::Regime;
 
+use super::json;
 use crate::error::{Result, ValidationError};
 use crate::figures::sliding::{draw_h_tbl, draw_profiles, draw_snapshot};
 
@@ -224,15 +225,6 @@ pub fn run_grid(
     }
     write_atomic(&out.join("grid.csv"), csv.as_bytes())?;
     Ok(results)
-}
-
-fn json(path: &Path, v: &impl Serialize) -> Result<()> {
-    let bytes = serde_json::to_vec_pretty(v).map_err(|e| ValidationError::Config {
-        path: path.display().to_string(),
-        reason: e.to_string(),
-    })?;
-    write_atomic(path, &bytes)?;
-    Ok(())
 }
 
 #[derive(Serialize)]
