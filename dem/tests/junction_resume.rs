@@ -2,13 +2,12 @@
 //! bit, as an uninterrupted one, and its dump holds each frame once. One test in this binary: the
 //! interrupt flag is process-wide.
 
-use std::time::Duration;
-
 use dem::material::{Material, PairModel};
 use dem::sample::{make_sample, RelaxConfig, SampleSpec};
-use dem::scenario::junction::{run, run_resumable, JunctionConfig, JunctionResult};
-use dem::scenario::patch::ProgressFile;
-use dem::{DemError, Parallelism, UnitSystem};
+use dem::scenario::junction::{run_resumable, JunctionConfig, JunctionResult};
+use dem::{Parallelism, UnitSystem};
+
+mod common;
 
 fn timeless(r: &JunctionResult) -> String {
     let mut r = r.clone();
@@ -57,70 +56,19 @@ fn an_interrupted_junction_resumes_bit_identically() {
         Parallelism::Sequential,
     )
     .unwrap();
-    let dir = std::env::temp_dir().join(format!("cgdem_junction_resume_{}", std::process::id()));
-    std::fs::remove_dir_all(&dir).ok();
-    std::fs::create_dir_all(&dir).unwrap();
-    let whole_dump = dir.join("whole.dump");
-    let whole = run(
-        &sample,
-        &model,
-        &cfg,
-        Parallelism::Sequential,
-        Some(&whole_dump),
-    )
-    .unwrap();
-
-    let file = ProgressFile {
-        path: dir.join("junction.progress.json"),
-        every: Duration::ZERO,
-    };
-    let cut_dump = dir.join("cut.dump");
-    // Interrupt once the first periodic save exists: the run stops somewhere inside a frame interval.
-    let watched = file.path.clone();
-    let watcher = std::thread::spawn(move || {
-        while !watched.exists() {
-            std::thread::sleep(Duration::from_millis(1));
-        }
-        std::thread::sleep(Duration::from_millis(20));
-        dem::interrupt::request();
-    });
-    let mut reported = 0;
-    let cut = run_resumable(
-        &sample,
-        &model,
-        &cfg,
-        Parallelism::Sequential,
-        Some(&cut_dump),
-        Some(&file),
-        &mut |_, _| reported += 1,
+    common::assert_resumes_bit_identically(
+        "junction",
+        &|dump, progress, report| {
+            run_resumable(
+                &sample,
+                &model,
+                &cfg,
+                Parallelism::Sequential,
+                Some(dump),
+                progress,
+                report,
+            )
+        },
+        timeless,
     );
-    watcher.join().unwrap();
-    dem::interrupt::clear();
-    let step = match cut {
-        Err(DemError::Interrupted { step }) => step,
-        other => panic!("expected an interrupt, got {:?}", other.map(|r| r.steps)),
-    };
-    assert!(
-        step < whole.steps,
-        "stopped at step {step} of {}",
-        whole.steps
-    );
-    assert!(reported > 0);
-    let resumed = run_resumable(
-        &sample,
-        &model,
-        &cfg,
-        Parallelism::Sequential,
-        Some(&cut_dump),
-        Some(&file),
-        &mut |_, _| {},
-    )
-    .unwrap();
-    assert_eq!(timeless(&resumed), timeless(&whole));
-    assert_eq!(
-        std::fs::read(&cut_dump).unwrap(),
-        std::fs::read(&whole_dump).unwrap(),
-        "the resumed dump holds every frame once, as the uninterrupted one"
-    );
-    std::fs::remove_dir_all(&dir).ok();
 }

@@ -1,13 +1,12 @@
 //! An interrupted sliding run (paper 004) resumes bit-identically, dump included. Alone in its file:
 //! the interrupt flag is process-wide.
 
-use std::time::Duration;
-
-use dem::io::progress::ProgressFile;
 use dem::material::PairModel;
 use dem::sample::{make_sample, RelaxConfig, Sample};
-use dem::scenario::sliding::{run, run_resumable, SlidingConfig, SlidingMaterial, SlidingResult};
-use dem::{DemError, Parallelism};
+use dem::scenario::sliding::{run_resumable, SlidingConfig, SlidingMaterial, SlidingResult};
+use dem::Parallelism;
+
+mod common;
 
 /// L = 10 d0 (d0 = 0.1 L), d* = 0.3 L, p_N = 0.02 E, half an L of sliding in 4 windows of 5 samples.
 fn small() -> (Sample, PairModel, SlidingConfig) {
@@ -51,60 +50,19 @@ fn an_interrupted_sliding_run_resumes_bit_identically() {
         dump_frames: 5,
         ..cfg
     };
-    let dir = std::env::temp_dir().join(format!("cgdem_sliding_resume_{}", std::process::id()));
-    std::fs::remove_dir_all(&dir).ok();
-    std::fs::create_dir_all(&dir).unwrap();
-    let whole_dump = dir.join("whole.dump");
-    let whole = run(
-        &sample,
-        &model,
-        &cfg,
-        Parallelism::Sequential,
-        Some(&whole_dump),
-    )
-    .unwrap();
-    let file = ProgressFile {
-        path: dir.join("sliding.progress.json"),
-        every: Duration::ZERO,
-    };
-    let cut_dump = dir.join("cut.dump");
-    let watched = file.path.clone();
-    let watcher = std::thread::spawn(move || {
-        while !watched.exists() {
-            std::thread::sleep(Duration::from_millis(1));
-        }
-        std::thread::sleep(Duration::from_millis(5));
-        dem::interrupt::request();
-    });
-    let cut = run_resumable(
-        &sample,
-        &model,
-        &cfg,
-        Parallelism::Sequential,
-        Some(&cut_dump),
-        Some(&file),
-        &mut |_, _| {},
+    common::assert_resumes_bit_identically(
+        "sliding",
+        &|dump, progress, report| {
+            run_resumable(
+                &sample,
+                &model,
+                &cfg,
+                Parallelism::Sequential,
+                Some(dump),
+                progress,
+                report,
+            )
+        },
+        timeless,
     );
-    watcher.join().unwrap();
-    dem::interrupt::clear();
-    match cut {
-        Err(DemError::Interrupted { step }) => assert!(step < whole.steps),
-        other => panic!("expected an interrupt, got {:?}", other.map(|r| r.steps)),
-    }
-    let resumed = run_resumable(
-        &sample,
-        &model,
-        &cfg,
-        Parallelism::Sequential,
-        Some(&cut_dump),
-        Some(&file),
-        &mut |_, _| {},
-    )
-    .unwrap();
-    assert_eq!(timeless(&resumed), timeless(&whole));
-    assert_eq!(
-        std::fs::read(&cut_dump).unwrap(),
-        std::fs::read(&whole_dump).unwrap()
-    );
-    std::fs::remove_dir_all(&dir).ok();
 }

@@ -88,3 +88,67 @@ poisson_ratio = [{}]
     ))
     .expect("valid campaign")
 }
+
+/// A driven run (junction, sliding) given its dump path, progress file and progress callback.
+pub type DrivenRun<'a, R> = dyn Fn(
+        &std::path::Path,
+        Option<&dem::io::progress::ProgressFile>,
+        &mut dyn FnMut(u64, u64),
+    ) -> Result<R, dem::DemError>
+    + 'a;
+
+/// Runs `run` whole, then again until an interrupt arrives just after its first periodic save, then
+/// once more from that save; asserts that the interrupt stopped it early, that progress was reported,
+/// and that the resumed result (`timeless`: without wall-clock fields) and dump are the whole run's to
+/// the bit, each frame once. Alone in its test binary: the interrupt flag is process-wide.
+pub fn assert_resumes_bit_identically<R>(
+    name: &str,
+    run: &DrivenRun<'_, R>,
+    timeless: impl Fn(&R) -> String,
+) {
+    use std::time::Duration;
+    let dir = std::env::temp_dir().join(format!("cgdem_{name}_resume_{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    std::fs::create_dir_all(&dir).unwrap();
+    let whole_dump = dir.join("whole.dump");
+    let whole = run(&whole_dump, None, &mut |_, _| {}).unwrap();
+    let file = dem::io::progress::ProgressFile {
+        path: dir.join(format!("{name}.progress.json")),
+        every: Duration::ZERO,
+    };
+    let cut_dump = dir.join("cut.dump");
+    // Interrupt once the first periodic save exists: the run stops somewhere inside an interval.
+    let watched = file.path.clone();
+    let watcher = std::thread::spawn(move || {
+        while !watched.exists() {
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        std::thread::sleep(Duration::from_millis(5));
+        dem::interrupt::request();
+    });
+    let mut reported = 0;
+    let cut = run(&cut_dump, Some(&file), &mut |_, _| reported += 1);
+    watcher.join().unwrap();
+    dem::interrupt::clear();
+    match cut {
+        Err(dem::DemError::Interrupted { step }) => assert!(step > 0, "{name}: stopped at step 0"),
+        Err(e) => panic!("{name}: expected an interrupt, got {e}"),
+        Ok(r) => panic!(
+            "{name}: the run ended before the interrupt: {}",
+            timeless(&r)
+        ),
+    }
+    assert!(reported > 0, "{name}: no progress reported");
+    let resumed = run(&cut_dump, Some(&file), &mut |_, _| {}).unwrap();
+    assert_eq!(
+        timeless(&resumed),
+        timeless(&whole),
+        "{name}: resumed result"
+    );
+    assert_eq!(
+        std::fs::read(&cut_dump).unwrap(),
+        std::fs::read(&whole_dump).unwrap(),
+        "{name}: the resumed dump holds every frame once, as the uninterrupted one"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
