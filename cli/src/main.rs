@@ -3,8 +3,8 @@
 mod cmd_bench;
 mod cmd_bench_plastic;
 mod cmd_calibrate;
-mod cmd_doctor;
 mod cmd_compare;
+mod cmd_doctor;
 mod cmd_dstar;
 mod cmd_impact;
 mod cmd_junction;

@@ -102,33 +102,37 @@ pub fn compare(
 ) -> Result<CompareResult> {
     file.validate()?;
     std::fs::create_dir_all(out).map_err(|e| ValidationError::io(out, e))?;
+    // Every DEM config is read and checked before the first run, so a bad one costs nothing.
+    let mut searches = Vec::new();
+    for r in &file.dem {
+        let path = how.base.join(&r.config);
+        let config_err = |reason: String| ValidationError::Config {
+            path: path.display().to_string(),
+            reason,
+        };
+        let text = std::fs::read_to_string(&path).map_err(|e| config_err(e.to_string()))?;
+        let df: DstarFile = toml::from_str(&text).map_err(|e| config_err(e.to_string()))?;
+        let material = df
+            .resolve(path.parent().unwrap_or(Path::new(".")))
+            .map_err(|e| config_err(e.to_string()))?;
+        let dir =
+            out.join(r.out.clone().unwrap_or_else(|| {
+                PathBuf::from("dem").join(path.file_stem().unwrap_or_default())
+            }));
+        searches.push((r, df, material, dir));
+    }
     let (card, card_seconds) = model_card(&file.model, &how.md)?;
     tracing::info!(d_star = card.d_star, "model card");
     let md = md::search(&file.md, &how.md, report)?;
     let mut dem = Vec::new();
-    for r in &file.dem {
-        let path = how.base.join(&r.config);
-        let text = std::fs::read_to_string(&path).map_err(|e| ValidationError::io(&path, e))?;
-        let df: DstarFile = toml::from_str(&text).map_err(|e| ValidationError::Config {
-            path: path.display().to_string(),
-            reason: e.to_string(),
-        })?;
-        let material = df
-            .resolve(path.parent().unwrap_or(Path::new(".")))
-            .map_err(|e| ValidationError::Config {
-                path: path.display().to_string(),
-                reason: e.to_string(),
-            })?;
-        let dir = out.join(r.out.clone().unwrap_or_else(|| {
-            PathBuf::from("dem").join(path.file_stem().unwrap_or_default())
-        }));
-        tracing::info!(config = %path.display(), out = %dir.display(), "DEM d* search");
-        let res: DstarResult = dem_search(&df, &material, &dir, &how.dem, how.par)?;
+    for (r, df, material, dir) in &searches {
+        tracing::info!(config = %r.config.display(), out = %dir.display(), "DEM d* search");
+        let res: DstarResult = dem_search(df, material, dir, &how.dem, how.par)?;
         let to_sigma = match df.units {
             Units::Reduced => 1.0,
             Units::Nano => 1.0 / file.model.sigma_nm,
         };
-        dem.push(DemEntry::new(&r.config, &dir, to_sigma, res));
+        dem.push(DemEntry::new(&r.config, dir, to_sigma, res));
     }
     let result = CompareResult::new(&card, card_seconds, md, dem);
     summary::write_outputs(out, &result)?;

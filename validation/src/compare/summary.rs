@@ -289,11 +289,8 @@ pub struct CompareResult {
 
 impl CompareResult {
     pub fn new(card: &ModelResult, card_seconds: f64, md: MdSearch, dem: Vec<DemEntry>) -> Self {
-        let at = |v: Option<f64>| {
-            v.map_or(0, |d| {
-                md.runs.iter().filter(|r| r.diameter == d).count()
-            })
-        };
+        let at =
+            |v: Option<f64>| v.map_or(0, |d| md.runs.iter().filter(|r| r.diameter == d).count());
         let agreement = dem
             .iter()
             .map(|e| {
@@ -317,7 +314,9 @@ impl CompareResult {
         let dem_brackets_overlap = if pairs.is_empty() {
             None
         } else {
-            pairs.into_iter().try_fold(true, |acc, p| p.map(|p| acc && p))
+            pairs
+                .into_iter()
+                .try_fold(true, |acc, p| p.map(|p| acc && p))
         };
         CompareResult {
             md_bracket: md.bracket,
@@ -360,7 +359,8 @@ pub fn markdown(r: &CompareResult) -> String {
         r.dstar_theory
     );
     let over = |b: &Span| {
-        let f = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{:.2}", x / r.dstar_theory));
+        let f =
+            |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{:.2}", x / r.dstar_theory));
         format!("({}, {}]", f(b[0]), f(b[1]))
     };
     let _ = writeln!(
@@ -492,7 +492,10 @@ pub fn write_outputs(out: &Path, r: &CompareResult) -> Result<()> {
     let scaled = |b: &Span| [b[0].map(|v| v / t), b[1].map(|v| v / t)];
     let mut brackets = vec![("MD bracket".to_string(), scaled(&r.md_bracket))];
     for e in &r.dem {
-        brackets.push((format!("DEM bracket, d0 = {} sigma", e.d0), scaled(&e.bracket)));
+        brackets.push((
+            format!("DEM bracket, d0 = {} sigma", e.d0),
+            scaled(&e.bracket),
+        ));
     }
     let refs = vec![(format!("eq 22 from the MD card ({t:.1} sigma)"), 1.0)];
     let rows = figure_rows(r);
@@ -674,7 +677,11 @@ mod tests {
         ];
         let r = CompareResult::new(&card(), 3.0, md, dem);
         let [l, u] = r.md_bracket;
-        assert!(l.unwrap() < 27.0 && 27.0 <= u.unwrap(), "{:?}", r.md_bracket);
+        assert!(
+            l.unwrap() < 27.0 && 27.0 <= u.unwrap(),
+            "{:?}",
+            r.md_bracket
+        );
         assert!(r.md_relative_width.unwrap() <= 0.2);
         assert_eq!(r.md_seeds_at_bounds, [2, 2]);
         for a in &r.agreement {
@@ -704,7 +711,10 @@ mod tests {
         for r in &c {
             // MD 1e-3 D^3 against DEM 1e-4 D^2: ratio 10 D, exact at equal sizes and for the
             // log-log interpolation of a power law.
-            assert!((r.ratio - 10.0 * r.diameter).abs() < 1e-9 * r.ratio, "{r:?}");
+            assert!(
+                (r.ratio - 10.0 * r.diameter).abs() < 1e-9 * r.ratio,
+                "{r:?}"
+            );
             assert!(r.how == "same D" || r.how == "DEM interpolated");
         }
         // An MD size outside the DEM sizes gets no ratio rather than an extrapolation.
