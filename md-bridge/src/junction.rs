@@ -258,3 +258,31 @@ fn frame_steps(cfg: &JunctionConfig, d: f64) -> u64 {
     let total = cfg.slide_factor * d / cfg.velocity / cfg.timestep;
     ((total / cfg.frames as f64).round() as u64).max(1)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_lattice_offset_is_checked_and_a_zero_one_stays_out_of_the_job() {
+        let ok = JunctionConfig {
+            lattice_offset: 0.618,
+            ..JunctionConfig::default()
+        };
+        assert!(ok.validate().is_ok());
+        for bad in [1.0, -0.1, f64::NAN] {
+            let c = JunctionConfig {
+                lattice_offset: bad,
+                ..JunctionConfig::default()
+            };
+            let e = c.validate().unwrap_err().to_string();
+            assert!(e.contains("lattice_offset"), "{e}");
+        }
+        // Zero is omitted (the cache keys of older jobs hold), anything else is written and read back.
+        let zero = serde_json::to_string(&JunctionConfig::default()).unwrap();
+        assert!(!zero.contains("lattice_offset"), "{zero}");
+        let text = serde_json::to_string(&ok).unwrap();
+        let back: JunctionConfig = serde_json::from_str(&text).unwrap();
+        assert_eq!(back, ok);
+    }
+}
