@@ -66,7 +66,17 @@ pub fn run(args: CompareArgs, threads: usize) -> Result<()> {
             m.wall_seconds
         );
     })
-    .with_context(|| format!("comparing {}", args.config.display()))?;
+    .with_context(|| {
+        if dem::interrupt::requested() {
+            format!(
+                "comparing {}: interrupted; every finished run is cached, the same command resumes \
+                 after them",
+                args.config.display()
+            )
+        } else {
+            format!("comparing {}", args.config.display())
+        }
+    })?;
     let show = |b: &[Option<f64>; 2]| {
         let f = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x}"));
         format!("({}, {}]", f(b[0]), f(b[1]))

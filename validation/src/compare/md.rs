@@ -151,6 +151,14 @@ pub fn search(
                 for &d in &sizes {
                     let mut outcomes = Vec::new();
                     for &seed in &cfg.seeds {
+                        // A Ctrl-C between two workers stops here; the finished runs are cached.
+                        if dem::interrupt::requested() {
+                            return Err(ValidationError::Report(
+                                "MD d* search interrupted: the finished runs are cached, the same \
+                                 command resumes after them"
+                                    .into(),
+                            ));
+                        }
                         let (r, cached) = run_one(&cfg.run_config(d, seed), opts)?;
                         report(&r, cached);
                         outcomes.push(r.outcome);
