@@ -3,6 +3,7 @@
 mod cmd_bench;
 mod cmd_bench_plastic;
 mod cmd_calibrate;
+mod cmd_compare;
 mod cmd_doctor;
 mod cmd_dstar;
 mod cmd_impact;
@@ -69,6 +70,8 @@ enum Command {
     Junction(cmd_junction::JunctionArgs),
     /// Automatic d* search by bisection on the junction size: `cgdem dstar configs/dstar-silica-6nm.toml --out DIR`.
     Dstar(cmd_dstar::DstarArgs),
+    /// DEM against MD on the model material's d* (issue 17): `cgdem compare configs/compare-model.toml --out DIR`.
+    Compare(cmd_compare::CompareArgs),
     /// Sliding with a third-body layer (paper 004): `cgdem sliding configs/sliding-quick.toml --out DIR`.
     Sliding(cmd_sliding::SlidingArgs),
     /// The validation report: every claim with figure, tolerance and verdict (`cgdem report --out DIR`).
@@ -104,6 +107,7 @@ fn main() -> Result<()> {
         Command::BenchPlastic(a) => cmd_bench_plastic::run(a),
         Command::Junction(a) => cmd_junction::run(a, cli.threads),
         Command::Dstar(a) => cmd_dstar::run(a, cli.threads),
+        Command::Compare(a) => cmd_compare::run(a, cli.threads),
         Command::Sliding(a) => cmd_sliding::run(a, cli.threads),
         Command::Report(a) => cmd_report::run(a, cli.threads),
     }

@@ -37,7 +37,14 @@ pub struct JunctionConfig {
     pub slide_factor: f64,
     /// Number of sampled frames; few enough that a frame's turn dominates thermal jitter.
     pub frames: usize,
+    /// Seeds the thermal velocities (`velocity create`) and the Langevin bath.
     pub seed: u64,
+    /// Lateral position of the junction in the crystal, as a fraction of the lattice spacing in
+    /// [0, 1): shifts which lattice columns the junction's edges cut, so that runs that differ by it
+    /// are different junctions of the same width (as two DEM packings are), not only different
+    /// thermal noise on the same one. 0 (the default) keeps the junction centred in the period.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub lattice_offset: f64,
     pub classify: ClassifyParams,
     /// LAMMPS dump of every frame (OVITO reads it), relative to the working directory (the job
     /// directory for worker jobs); None writes nothing.
@@ -58,6 +65,7 @@ impl Default for JunctionConfig {
             slide_factor: 2.5,
             frames: 60,
             seed: 777,
+            lattice_offset: 0.0,
             classify: ClassifyParams::default(),
             dump_file: Some("junction.dump".into()),
         }
@@ -79,6 +87,12 @@ impl JunctionConfig {
                 ("slide_factor", self.slide_factor),
             ],
         )?;
+        if !(0.0..1.0).contains(&self.lattice_offset) {
+            return Err(MdError::config(
+                "junction config",
+                format!("lattice_offset {} must lie in [0, 1)", self.lattice_offset),
+            ));
+        }
         if self.length_factor < 1.5 || self.frames < 2 || self.width < 4.0 || self.cutoff < 1.2 {
             return Err(MdError::config(
                 "junction config",
@@ -87,6 +101,12 @@ impl JunctionConfig {
         }
         Ok(())
     }
+}
+
+/// Serde: a zero offset is left out of the job, so the cache keys of the jobs made before the field
+/// existed stay valid.
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -111,7 +131,8 @@ pub fn run(lmp: &Lammps, cfg: &JunctionConfig) -> Result<JunctionResult> {
     let snap = |h: f64| (h / row).round().max(2.0) * row;
     let (hs, gap) = (snap(cfg.slab_factor * d), snap(d / 2.0));
     let (y1, y2, y3) = (hs, hs + gap, 2.0 * hs + gap);
-    let (xl, xr) = (lx / 2.0 - d / 2.0, lx / 2.0 + d / 2.0);
+    let centre = lx / 2.0 + cfg.lattice_offset * a;
+    let (xl, xr) = (centre - d / 2.0, centre + d / 2.0);
     let wall = 2.0 * row + 0.1;
     let s = crate::lammps::lammps_seed(cfg.seed, 1);
     lmp.commands(&format!(
@@ -236,4 +257,32 @@ thermo 0",
 fn frame_steps(cfg: &JunctionConfig, d: f64) -> u64 {
     let total = cfg.slide_factor * d / cfg.velocity / cfg.timestep;
     ((total / cfg.frames as f64).round() as u64).max(1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_lattice_offset_is_checked_and_a_zero_one_stays_out_of_the_job() {
+        let ok = JunctionConfig {
+            lattice_offset: 0.618,
+            ..JunctionConfig::default()
+        };
+        assert!(ok.validate().is_ok());
+        for bad in [1.0, -0.1, f64::NAN] {
+            let c = JunctionConfig {
+                lattice_offset: bad,
+                ..JunctionConfig::default()
+            };
+            let e = c.validate().unwrap_err().to_string();
+            assert!(e.contains("lattice_offset"), "{e}");
+        }
+        // Zero is omitted (the cache keys of older jobs hold), anything else is written and read back.
+        let zero = serde_json::to_string(&JunctionConfig::default()).unwrap();
+        assert!(!zero.contains("lattice_offset"), "{zero}");
+        let text = serde_json::to_string(&ok).unwrap();
+        let back: JunctionConfig = serde_json::from_str(&text).unwrap();
+        assert_eq!(back, ok);
+    }
 }

@@ -9,6 +9,7 @@
 //!   of cached jobs that measures them for the report.
 
 pub mod bench;
+pub mod compare;
 pub mod error;
 pub mod figures;
 pub mod plastic;

@@ -72,6 +72,14 @@ fn kinds() -> Vec<ConfigKind> {
             },
         },
         ConfigKind {
+            name: "compare",
+            check: |t| {
+                via::<validation::compare::CompareFile>(t)?
+                    .validate()
+                    .map_err(|e| e.to_string())
+            },
+        },
+        ConfigKind {
             name: "impact",
             check: |t| {
                 let mut f = via::<dem::scenario::plastic::ImpactFile>(t)?;
@@ -140,6 +148,7 @@ fn seeds(kind: &str) -> Vec<(String, String)> {
         "md silica" => "silica-",
         "junction" => "junction-",
         "dstar" => "dstar-",
+        "compare" => "compare-",
         "impact" => "impact-",
         "scratch" => "scratch",
         "sliding" => "sliding-",

@@ -34,7 +34,8 @@ pub fn x_extent(
 }
 
 /// Draws the map: `rows` bottom to top, each bracket (lower, upper) shaded in its own colour (an open
-/// end reaches the axis), each reference a dashed vertical line; a key above names them.
+/// end reaches the axis), each reference a dashed vertical line; a key above names them. A path
+/// ending in `.svg` gets an SVG, any other a PNG.
 pub fn draw_outcomes(
     path: &Path,
     x_label: &str,
@@ -43,10 +44,30 @@ pub fn draw_outcomes(
     refs: &[(String, f64)],
 ) -> Result<()> {
     ensure_font()?;
+    let key_rows = 1 + brackets.len() + refs.len();
+    let size = (
+        1200,
+        140 + 48 * rows.len().max(2) as u32 + 26 * key_rows as u32,
+    );
+    if path.extension().is_some_and(|e| e == "svg") {
+        let root = SVGBackend::new(path, size).into_drawing_area();
+        draw_on(root, path, x_label, rows, brackets, refs)
+    } else {
+        let root = BitMapBackend::new(path, size).into_drawing_area();
+        draw_on(root, path, x_label, rows, brackets, refs)
+    }
+}
+
+fn draw_on<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    path: &Path,
+    x_label: &str,
+    rows: &[OutcomeRow],
+    brackets: &[(String, [Option<f64>; 2])],
+    refs: &[(String, f64)],
+) -> Result<()> {
     let err = |e: &dyn std::fmt::Display| draw_err(path, e);
     let key_rows = 1 + brackets.len() + refs.len();
-    let height = 140 + 48 * rows.len().max(2) as u32 + 26 * key_rows as u32;
-    let root = BitMapBackend::new(path, (1200, height)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(&e))?;
     let (key, body) = root.split_vertically(16 + 26 * key_rows as u32);
     // The key: marks, then brackets and references in their colours.

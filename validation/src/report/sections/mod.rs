@@ -2,6 +2,7 @@
 //! adding one is writing that module and one line in [`all`].
 
 pub mod calibration;
+pub mod compare;
 pub mod force_laws;
 pub mod junction;
 pub mod md;
@@ -25,6 +26,7 @@ pub fn all() -> Vec<Section> {
         md::MODEL,
         performance::SECTION,
         junction::SECTION,
+        compare::SECTION,
         sliding::SECTION,
         plastic::SECTION,
     ]
