@@ -94,7 +94,13 @@ pub fn run_resumable(
     let geo = build(relaxed, cfg)?;
     let run_cfg = RunConfig {
         time_step: TimeStep::FractionOfCritical(cfg.time_step_fraction),
+        planar: cfg.monolayer.is_some(),
         ..RunConfig::default()
+    };
+    // A monolayer's pressure is a force per unit length of the wall (module docs).
+    let traction = match cfg.monolayer {
+        Some(_) => cfg.pressure / geo.sample.sim_box.lengths().z,
+        None => cfg.pressure,
     };
     let mut rig = Rig::new(
         &geo.sample,
@@ -117,7 +123,7 @@ pub fn run_resumable(
     rig.set_top(RigidMotion {
         axes: [
             AxisControl::Velocity(cfg.velocity),
-            AxisControl::Traction(-cfg.pressure),
+            AxisControl::Traction(-traction),
             AxisControl::Velocity(0.0),
         ],
         velocity: Vec3::new(cfg.velocity, 0.0, 0.0),
