@@ -27,7 +27,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         },
         d0,
         areal_density: 0.9165,
-        restitution: 0.9,
+        restitution: 0.95,
         tensile_correction: a[3].parse()?,
     };
     let (mat, _) = src.resolve()?;
