@@ -458,8 +458,6 @@ pub fn surface_energy(sample: &Sample, model: &PairModel) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::material::PairModel;
-    use crate::sample::monolayer::hex_monolayer;
 
     /// The MD model material's card at cut-off 1.3 sigma (docs/md-bridge.md).
     pub(crate) fn md_card() -> Properties2d {
@@ -483,36 +481,5 @@ mod tests {
         assert!((m2.young_modulus - 2.0 * m4.young_modulus).abs() < 1e-12);
         let e = pair_material(&t, 9.0, 1.0, 0.9).unwrap_err().to_string();
         assert!(e.contains("too coarse"), "{e}");
-    }
-
-    #[test]
-    fn hex_layer_has_the_triangular_lattice_constants_and_the_target() {
-        // A monodisperse hex layer of central springs: nu_2D = 1/3 and E_2D = 2 k / sqrt(3) exactly
-        // (module docs); the closed form then gives the MD card's E_2D, and the bond-counting surface
-        // energy its gamma.
-        let t = md_card();
-        let d0 = 2.0;
-        let mat = pair_material(&t, d0, 1.0, 0.9).unwrap();
-        let model = PairModel::cohesive(mat);
-        let s = hex_monolayer(24.0, 24.0, d0, 2.5 * d0, 1.0, 0.0, 1).unwrap();
-        let m = measure(
-            &s,
-            &model,
-            &MeasureConfig::default(),
-            Parallelism::Sequential,
-        )
-        .unwrap();
-        let p = m.properties;
-        let k = model.params(1.0, 1.0, 1.0, 1.0).k_n;
-        assert!((p.poisson_ratio - 1.0 / 3.0).abs() < 1e-4, "{p:?}");
-        assert!(
-            (p.young_modulus / (2.0 * k / 3f64.sqrt()) - 1.0).abs() < 1e-3,
-            "{p:?}"
-        );
-        assert!((p.young_modulus / 66.0 - 1.0).abs() < 1e-3, "{p:?}");
-        assert!((p.surface_energy / 0.306 - 1.0).abs() < 1e-9, "{p:?}");
-        // Tension along the rows peaks where the x bonds reach delta_e: sigma_N,2D (within the
-        // strain step of the ramp and the geometric nonlinearity of a few per cent of strain).
-        assert!((p.tensile_strength / 2.36 - 1.0).abs() < 0.05, "{p:?}");
     }
 }
