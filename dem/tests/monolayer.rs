@@ -252,13 +252,24 @@ fn a_planar_junction_of_the_md_geometry_runs_to_a_verdict() {
     for (a, b) in r.first.pos.iter().zip(&r.last.pos) {
         assert_eq!(a[2].to_bits(), b[2].to_bits());
     }
-    // The load is a force per length: over the second half the layer pushes back with pressure L_x.
-    let late = &r.force[r.force.len() / 2..];
-    let mean_fy = late.iter().map(|s| s.force[1]).sum::<f64>() / late.len() as f64;
+    // The load is a force per length: while the junction still holds (the first fifth of the slide,
+    // after the start-up), the layer pushes back with pressure L_x in the mean. (Later the junction
+    // tears and the top solid falls and lands in impacts that instantaneous samples catch or miss.)
+    let n = r.force.len();
+    let quarter =
+        |a: usize, b: usize| r.force[a..b].iter().map(|s| s.force[1]).sum::<f64>() / (b - a) as f64;
     let load = cfg.pressure * (r.first.hi[0] - r.first.lo[0]);
+    let early = quarter(n / 20, n / 5);
+    eprintln!(
+        "load {load}: mean F_y over [0.05, 0.2] {early}, quarters {:.3} {:.3} {:.3} {:.3}",
+        quarter(0, n / 4),
+        quarter(n / 4, n / 2),
+        quarter(n / 2, 3 * n / 4),
+        quarter(3 * n / 4, n)
+    );
     assert!(
-        (mean_fy - load).abs() < 0.1 * load,
-        "mean F_y {mean_fy} against the load {load}"
+        (early - load).abs() < 0.1 * load,
+        "mean F_y {early} against the load {load}"
     );
     assert!(r.verdict.turn.is_finite() && r.verdict.rigidity.is_finite());
     assert!(r.verdict.detachment.is_some());
