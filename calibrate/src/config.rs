@@ -286,7 +286,9 @@ impl CalibrationConfig {
         if let Some(d0) = self.d0_m {
             let d0 = units.length_from_m(d0);
             match &mut sample {
-                SampleSpec::Hcp { d0_over_dc, .. } | SampleSpec::Amorphous { d0_over_dc, .. } => {
+                SampleSpec::Hcp { d0_over_dc, .. }
+                | SampleSpec::Amorphous { d0_over_dc, .. }
+                | SampleSpec::HexMonolayer { d0_over_dc, .. } => {
                     *d0_over_dc = d0 / model.material.critical_diameter()
                 }
                 SampleSpec::File { .. } => {
@@ -297,7 +299,9 @@ impl CalibrationConfig {
             }
         }
         let d0 = match &sample {
-            SampleSpec::Hcp { d0_over_dc, .. } | SampleSpec::Amorphous { d0_over_dc, .. } => {
+            SampleSpec::Hcp { d0_over_dc, .. }
+            | SampleSpec::Amorphous { d0_over_dc, .. }
+            | SampleSpec::HexMonolayer { d0_over_dc, .. } => {
                 Some(d0_over_dc * model.material.critical_diameter())
             }
             SampleSpec::File { .. } => None,

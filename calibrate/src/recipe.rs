@@ -214,6 +214,7 @@ pub fn describe(spec: &SampleSpec) -> String {
             ..
         } => format!("sample seed {seed} ({l_over_d0} x {l_over_d0} x {w_over_d0} d0)"),
         SampleSpec::Hcp { .. } => "HCP lattice".into(),
+        SampleSpec::HexMonolayer { seed, .. } => format!("hex monolayer seed {seed}"),
         SampleSpec::File { path } => format!("sample file {}", path.display()),
     }
 }

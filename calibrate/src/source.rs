@@ -15,6 +15,7 @@
 use std::path::{Path, PathBuf};
 
 use dem::material::{ForceLaw, Material, PairModel};
+use dem::scenario::monolayer::MonolayerMaterial;
 use dem::UnitSystem;
 use serde::{Deserialize, Serialize};
 
@@ -81,6 +82,11 @@ pub struct MaterialSource {
     pub scaling: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub card: Option<PathBuf>,
+    /// A quasi-2D hex monolayer matched to 2D properties (the MD model material's card), in the
+    /// config's units (`dem::scenario::monolayer`): closed-form pair parameters at nu = 1/4, with the
+    /// measured `tensile_correction`; the target is the 2D card itself.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub monolayer: Option<MonolayerMaterial>,
 }
 
 /// A source turned into what the engine runs.
@@ -107,10 +113,12 @@ impl MaterialSource {
             self.engine.is_some(),
             self.md_card.is_some(),
             self.card.is_some(),
+            self.monolayer.is_some(),
         ];
         if given.iter().filter(|&&g| g).count() != 1 {
             return Err(CalibrateError::InvalidConfig(
-                "[material] needs exactly one of preset, si, engine, md_card and card".into(),
+                "[material] needs exactly one of preset, si, engine, md_card, card and monolayer"
+                    .into(),
             ));
         }
         if self.scaling.is_some() && self.md_card.is_none() {
@@ -157,6 +165,26 @@ impl MaterialSource {
                 si.to_engine(units.system()),
                 format!("{name}, closed-form parameters (eqs 7-13)"),
             );
+        }
+        if let Some(m) = &self.monolayer {
+            let (pair, target) = m.resolve()?;
+            let model = PairModel::cohesive(pair);
+            model.validate()?;
+            return Ok(ResolvedMaterial {
+                model,
+                target,
+                units,
+                description: format!(
+                    "hex monolayer of d0 = {} matched to 2D properties (E {}, sigma_N {} x {}, gamma {}), \
+                     closed form of dem::scenario::monolayer",
+                    m.d0,
+                    m.properties.young_modulus,
+                    m.properties.tensile_strength,
+                    m.tensile_correction,
+                    m.properties.surface_energy
+                ),
+                card: None,
+            });
         }
         if let Some(m) = &self.engine {
             return closed(

@@ -63,9 +63,9 @@ fn config(args: &PipelineArgs) -> Result<CalibrationConfig> {
     };
     if let Some(l) = args.size {
         match &mut cfg.sample {
-            SampleSpec::Hcp { l_over_d0, .. } | SampleSpec::Amorphous { l_over_d0, .. } => {
-                *l_over_d0 = l
-            }
+            SampleSpec::Hcp { l_over_d0, .. }
+            | SampleSpec::Amorphous { l_over_d0, .. }
+            | SampleSpec::HexMonolayer { l_over_d0, .. } => *l_over_d0 = l,
             SampleSpec::File { .. } => {}
         }
     }
@@ -106,6 +106,7 @@ pub fn run(args: PipelineArgs, threads: usize) -> Result<()> {
     let sample = match &card.sample {
         SampleSpec::Hcp { .. } => "HCP",
         SampleSpec::Amorphous { .. } => "amorphous",
+        SampleSpec::HexMonolayer { .. } => "hex monolayer",
         SampleSpec::File { .. } => "file",
     };
     let text = format!(

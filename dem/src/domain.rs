@@ -56,11 +56,13 @@ impl SimBox {
         Vec3::new(s[0] as f64 * l.x, s[1] as f64 * l.y, s[2] as f64 * l.z)
     }
 
-    /// Wraps `x` into [lo, hi) along periodic axes.
+    /// Wraps `x` into [lo, hi) along periodic axes. A coordinate already inside is left as it is, bit
+    /// for bit: (x - lo) / l * l + lo can differ from x in the last place, which would move a planar
+    /// layer's particles off their plane at every neighbour-list rebuild.
     pub fn wrap(&self, x: &mut Vec3) {
         let l = self.lengths();
         for a in 0..3 {
-            if self.periodic[a] {
+            if self.periodic[a] && !(x[a] >= self.lo[a] && x[a] < self.hi[a]) {
                 let mut u = (x[a] - self.lo[a]) / l[a];
                 u -= u.floor();
                 // Rounding can give exactly 1.0 for tiny negative inputs; keep the half-open interval.

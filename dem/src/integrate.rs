@@ -6,6 +6,10 @@
 //! dimensionally wrong; we divide by I (2/5 m r^2 for a solid sphere), as LAMMPS's `fix nve/sphere`
 //! that the paper used does. `tests::spin_up_uses_moment_of_inertia` pins it.
 //!
+//! Planar motion (`RunConfig::planar`, the quasi-2D monolayer): the z components of F, v and the x, y
+//! components of T, omega of a free particle are set to zero before its update, so x_z stays bit for bit
+//! and the particle turns about z only; the constraint's reaction does no work.
+//!
 //! Global viscous damping (paper 000 eq 21, "a fraction of c_c"): a force -c v on every free particle,
 //! and a torque -c (I/m) omega, so that spin relaxes at the same rate as translation.
 
@@ -53,6 +57,7 @@ pub(crate) fn advance_free(
     damping: f64,
     dt: f64,
     energy: bool,
+    planar: bool,
     parallel: bool,
 ) -> StepSums {
     let Particles {
@@ -77,12 +82,22 @@ pub(crate) fn advance_free(
                 screen += 0.0 * (x[k].sum() + v[k].sum() + w[k].sum());
                 continue;
             }
+            if planar {
+                v[k].z = 0.0;
+                w[k].x = 0.0;
+                w[k].y = 0.0;
+            }
             let cw = damping * inr / m;
             if energy {
                 pd += damping * v[k].norm_squared() + cw * w[k].norm_squared();
             }
-            let f = force[i] - damping * v[k];
-            let t = torque[i] - cw * w[k];
+            let mut f = force[i] - damping * v[k];
+            let mut t = torque[i] - cw * w[k];
+            if planar {
+                f.z = 0.0;
+                t.x = 0.0;
+                t.y = 0.0;
+            }
             v[k] += f * (dt / m);
             x[k] += v[k] * dt;
             w[k] += t * (dt / inr);
@@ -153,6 +168,7 @@ mod tests {
                 dt,
                 true,
                 false,
+                false,
             );
         }
         let expect = 5.0 / p.inertia[0] * 1.0;
@@ -177,6 +193,7 @@ mod tests {
             0.0,
             0.5,
             true,
+            false,
             false,
         );
         // v1 = 0.5, x1 = v1 dt = 0.25 (the new velocity moves the particle).

@@ -65,6 +65,12 @@ pub struct RunConfig {
     /// Keep the energy ledger up to date every step; default false (it costs a pass over the pairs).
     #[serde(default)]
     pub track_energy: bool,
+    /// Planar motion (a quasi-2D monolayer in the x-y plane): every free particle's force and velocity
+    /// along z and its torque and spin about x and y are zeroed before each update, so z never changes
+    /// (to the bit) and particles roll about z only; default false (3D). The z forces are the reaction
+    /// of an ideal frictionless constraint: they do no work, so the energy balance is unchanged.
+    #[serde(default)]
+    pub planar: bool,
 }
 
 fn default_dt() -> TimeStep {
@@ -82,6 +88,7 @@ impl Default for RunConfig {
             global_damping: 0.0,
             skin_fraction: default_skin(),
             track_energy: false,
+            planar: false,
         }
     }
 }
@@ -433,6 +440,7 @@ impl Simulation {
                 self.damping_coef,
                 self.dt,
                 self.config.track_energy,
+                self.config.planar,
                 parallel,
             )
         };

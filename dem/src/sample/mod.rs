@@ -11,6 +11,7 @@
 pub mod carve;
 pub mod hcp;
 pub mod insert;
+pub mod monolayer;
 pub mod relax;
 pub mod sizes;
 pub mod spec;

@@ -50,6 +50,16 @@ pub enum SampleSpec {
         #[serde(default = "d_insert", skip_serializing_if = "is_d_insert")]
         insert_fraction: f64,
     },
+    /// A quasi-2D hex monolayer (`sample::monolayer`) of about L x H in the x-y plane, W thick along z,
+    /// diameters d0 (1 + p u), relaxed in the plane; run it with `RunConfig::planar`.
+    HexMonolayer {
+        d0_over_dc: f64,
+        l_over_d0: f64,
+        h_over_d0: f64,
+        w_over_d0: f64,
+        polydispersity: f64,
+        seed: u64,
+    },
     /// A sample saved by `cgdem sample` or [`Sample::save`].
     File { path: PathBuf },
 }
@@ -127,6 +137,26 @@ pub fn make_sample_resumable(
             };
             relax_resumable(&random_insertion(&ins)?, model, relax, par, progress)
         }
+        SampleSpec::HexMonolayer {
+            d0_over_dc,
+            l_over_d0,
+            h_over_d0,
+            w_over_d0,
+            polydispersity,
+            seed,
+        } => {
+            let d0 = d0_over_dc * d_c;
+            let raw = super::monolayer::hex_monolayer(
+                l_over_d0 * d0,
+                h_over_d0 * d0,
+                d0,
+                w_over_d0 * d0,
+                rho,
+                *polydispersity,
+                *seed,
+            )?;
+            super::monolayer::relax_planar(&raw, model, par)
+        }
         SampleSpec::File { path } => Sample::load(path),
     }
 }
@@ -136,9 +166,9 @@ impl SampleSpec {
     pub fn with_d0(&self, v: f64) -> Result<SampleSpec> {
         let mut s = self.clone();
         match &mut s {
-            SampleSpec::Hcp { d0_over_dc, .. } | SampleSpec::Amorphous { d0_over_dc, .. } => {
-                *d0_over_dc = v
-            }
+            SampleSpec::Hcp { d0_over_dc, .. }
+            | SampleSpec::Amorphous { d0_over_dc, .. }
+            | SampleSpec::HexMonolayer { d0_over_dc, .. } => *d0_over_dc = v,
             SampleSpec::File { .. } => {
                 return Err(DemError::InvalidConfig(
                     "a d0 sweep needs a generated sample, not a file".into(),
@@ -151,7 +181,7 @@ impl SampleSpec {
     /// The same recipe drawn with another seed (an HCP lattice or a saved file has none: unchanged).
     pub fn with_seed(&self, v: u64) -> SampleSpec {
         let mut s = self.clone();
-        if let SampleSpec::Amorphous { seed, .. } = &mut s {
+        if let SampleSpec::Amorphous { seed, .. } | SampleSpec::HexMonolayer { seed, .. } = &mut s {
             *seed = v;
         }
         s
@@ -160,7 +190,9 @@ impl SampleSpec {
     /// The seed of an amorphous recipe.
     pub fn seed(&self) -> Option<u64> {
         match self {
-            SampleSpec::Amorphous { seed, .. } => Some(*seed),
+            SampleSpec::Amorphous { seed, .. } | SampleSpec::HexMonolayer { seed, .. } => {
+                Some(*seed)
+            }
             _ => None,
         }
     }
@@ -186,6 +218,16 @@ impl SampleSpec {
                 ..
             } => {
                 *l_over_d0 *= length;
+                *w_over_d0 *= width;
+            }
+            SampleSpec::HexMonolayer {
+                l_over_d0,
+                h_over_d0,
+                w_over_d0,
+                ..
+            } => {
+                *l_over_d0 *= length;
+                *h_over_d0 *= length;
                 *w_over_d0 *= width;
             }
             SampleSpec::File { .. } if length == 1.0 && width == 1.0 => {}

@@ -7,12 +7,15 @@
 //! - [`patch`]: the patch tests of paper 000 section 3 (elastic constants, tensile and shear strength,
 //!   fracture energy), the inner loop of the calibration;
 //! - [`junction`]: junction shear of paper 000 section 4, plastic smoothing or a rolling wear particle;
+//! - [`monolayer`]: the quasi-2D hex monolayer as a material (closed form to 2D properties, and their
+//!   measurement), the DEM side of the comparison with the 2D MD model material;
 //! - [`plastic`]: plastic wear by impact and scratching (paper 001), a rigid sphere against a surface
 //!   of non-interacting spheres, with its own contact loop;
 //! - [`sliding`]: sliding with a third-body layer (paper 004), its profiles, rho_TBL, p_T and regime.
 
 pub mod driven;
 pub mod junction;
+pub mod monolayer;
 pub mod patch;
 pub mod plastic;
 pub mod rig;

@@ -105,6 +105,7 @@ impl DstarFile {
             .material
             .resolve(base, self.units, ForceLaw::Cohesive)?;
         self.junction.validate()?;
+        super::junction::check_monolayer(&self.material, &self.junction)?;
         self.settings()?;
         Ok(m)
     }
@@ -407,6 +408,28 @@ fn measure(
         "measuring the material on the search's recipe"
     );
     let dir = cache.dir(&key)?;
+    if cfg.monolayer.is_some() {
+        // The planar layer's own measures (2D: force per length), not the 3D patch tests.
+        let m2 = dem::scenario::monolayer::measure(
+            &sample,
+            model,
+            &dem::scenario::monolayer::MeasureConfig::default(),
+            par,
+        )?;
+        let p = m2.properties;
+        let m = Measured {
+            young_modulus: p.young_modulus,
+            poisson_ratio: p.poisson_ratio,
+            tensile_strength: p.tensile_strength,
+            shear_strength: p.shear_strength,
+            surface_energy: Some(p.surface_energy),
+            seed: cfg.seed,
+            particles: sample.particles.len(),
+            seconds: t.elapsed().as_secs_f64(),
+        };
+        cache.put(&key, &(cfg, model), &m)?;
+        return Ok(m);
+    }
     let e = elastic(&sample, model, &ElasticConfig::default(), par)?;
     let p = |name: &str| ProgressFile::new(dir.join(format!("{name}.progress.json")));
     let (pt, ps) = (p("tensile"), p("shear"));

@@ -52,15 +52,54 @@ impl JunctionFile {
             .material
             .resolve(base, self.units, ForceLaw::Cohesive)?;
         self.junction.validate()?;
+        check_monolayer(&self.material, &self.junction)?;
         Ok(m)
     }
 }
 
+/// A monolayer material goes with a monolayer junction of the same d0, and the other way round: the
+/// material's closed form is for that layer.
+pub fn check_monolayer(material: &MaterialSource, junction: &JunctionConfig) -> Result<()> {
+    let bad = |reason: String| {
+        Err(ValidationError::Config {
+            path: "[material] / [junction.monolayer]".into(),
+            reason,
+        })
+    };
+    match (&material.monolayer, &junction.monolayer) {
+        (Some(m), Some(_)) if (m.d0 - junction.d0).abs() > 1e-12 * m.d0 => bad(format!(
+            "the monolayer material is matched for d0 = {} but the junction has d0 = {}",
+            m.d0, junction.d0
+        )),
+        (Some(_), None) => bad(
+            "a monolayer material needs [junction.monolayer] (its pair parameters hold for the \
+             planar hex layer only)"
+                .into(),
+        ),
+        (None, Some(_)) => bad(
+            "[junction.monolayer] needs a [material.monolayer] matched to its layer (a 3D card's \
+             parameters do not give its properties to a monolayer)"
+                .into(),
+        ),
+        _ => Ok(()),
+    }
+}
+
 /// The recipe of a junction's relaxed box: the config's lengths and size distribution, d0 in units of
-/// the material's d_c (eq 18).
+/// the material's d_c (eq 18); a quasi-2D junction's hex monolayer of the config's x-y lengths.
 pub fn recipe(cfg: &JunctionConfig, model: &PairModel) -> SampleSpec {
     let d_c = model.material.critical_diameter();
     let d0 = cfg.d0;
+    if let Some(m) = &cfg.monolayer {
+        return SampleSpec::HexMonolayer {
+            d0_over_dc: d0 / d_c,
+            l_over_d0: cfg.lengths[0] / d0,
+            h_over_d0: cfg.lengths[1] / d0,
+            w_over_d0: m.thickness_over_d0,
+            polydispersity: m.polydispersity,
+            seed: cfg.seed,
+        };
+    }
     SampleSpec::Amorphous {
         d0_over_dc: d0 / d_c,
         l_over_d0: cfg.lengths[0] / d0,

@@ -44,7 +44,12 @@ pub fn build(relaxed: &Sample, cfg: &JunctionConfig) -> Result<Geometry> {
     let h = cfg.height();
     let gap = (c.y - 0.5 * h, c.y + 0.5 * h);
     let l = bx.lengths();
-    if cfg.diameter >= l.x.min(l.z) {
+    let across = if cfg.monolayer.is_some() {
+        l.x
+    } else {
+        l.x.min(l.z)
+    };
+    if cfg.diameter >= across {
         return Err(DemError::InvalidConfig(format!(
             "junction: diameter {} does not fit the relaxed box {:.4} x {:.4}",
             cfg.diameter, l.x, l.z

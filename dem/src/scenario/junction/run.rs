@@ -79,7 +79,13 @@ pub fn run_resumable(
     let geo = build(relaxed, cfg)?;
     let run_cfg = RunConfig {
         time_step: TimeStep::FractionOfCritical(cfg.time_step_fraction),
+        planar: cfg.monolayer.is_some(),
         ..RunConfig::default()
+    };
+    // A monolayer's pressure is a force per unit length of the wall (module docs).
+    let traction = match cfg.monolayer {
+        Some(_) => cfg.pressure / geo.sample.sim_box.lengths().z,
+        None => cfg.pressure,
     };
     let mut rig = Rig::new(
         &geo.sample,
@@ -99,7 +105,7 @@ pub fn run_resumable(
             "junction: the walls reach into the junction (thicker solids or thinner walls)".into(),
         ));
     }
-    rig.set_top(sliding_top(cfg.velocity, cfg.pressure));
+    rig.set_top(sliding_top(cfg.velocity, traction));
     let dt = rig.sim.dt();
     let total = cfg.steps(dt);
     let frame_every = (total / cfg.frames).max(1);

@@ -131,9 +131,9 @@ pub struct PatchReport {
 pub fn run_suite(suite: &PatchSuite, out: Option<&Path>, par: Parallelism) -> Result<PatchReport> {
     let or_base = |v: &Vec<f64>, base: f64| if v.is_empty() { vec![base] } else { v.clone() };
     let base_d0 = match &suite.sample {
-        SampleSpec::Hcp { d0_over_dc, .. } | SampleSpec::Amorphous { d0_over_dc, .. } => {
-            Some(*d0_over_dc)
-        }
+        SampleSpec::Hcp { d0_over_dc, .. }
+        | SampleSpec::Amorphous { d0_over_dc, .. }
+        | SampleSpec::HexMonolayer { d0_over_dc, .. } => Some(*d0_over_dc),
         SampleSpec::File { .. } => None,
     };
     let d0s: Vec<Option<f64>> = if suite.sweep.d0_over_dc.is_empty() {
