@@ -91,13 +91,13 @@ pub fn run(args: CompareArgs, threads: usize) -> Result<()> {
     );
     for (e, a) in r.dem.iter().zip(&r.agreement) {
         println!(
-            "DEM d0 = {} sigma: bracket {} sigma ({} runs, {:.0} s); overlaps MD: {:?}, centre ratio {:?}",
+            "DEM d0 = {} sigma: bracket {} sigma ({} runs, {:.0} s); overlaps MD: {}, centre ratio DEM/MD {}",
             e.d0,
             show(&e.bracket),
             e.runs.len(),
             e.cost_seconds,
-            a.overlap,
-            a.centre_ratio
+            a.overlap.map_or("-", |o| if o { "yes" } else { "no" }),
+            a.centre_ratio.map_or("-".to_string(), |c| format!("{c:.2}"))
         );
     }
     for c in &r.cost_ratios {
