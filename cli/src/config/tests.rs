@@ -209,6 +209,10 @@ fn number_lines(text: &str) -> Vec<(usize, String)> {
     text.lines()
         .enumerate()
         .filter_map(|(i, l)| {
+            // A comment may hold `D = 35`: not a key.
+            if l.trim_start().starts_with('#') {
+                return None;
+            }
             let (k, v) = l.split_once('=')?;
             let v = v.split('#').next()?.trim();
             (v.parse::<f64>().is_ok() && !k.contains('[')).then(|| (i, k.trim().to_string()))
