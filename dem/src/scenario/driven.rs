@@ -92,7 +92,6 @@ pub struct Schedule<'a> {
 #[derive(Debug)]
 pub struct Recorded<R> {
     pub records: R,
-    pub dump: Option<Dump>,
     /// Wall-clock seconds of the stepping, summed over resumed parts.
     pub wall_seconds: f64,
 }
@@ -197,7 +196,6 @@ pub fn run_resumable<R: Recorders>(
     }
     Ok(Recorded {
         records: st.records,
-        dump: st.dump,
         wall_seconds: st.seconds + t0.elapsed().as_secs_f64(),
     })
 }
