@@ -66,7 +66,8 @@ pub fn slice(s: &Snapshot, axis_z: f64, half: f64) -> Vec<Disc> {
     discs
 }
 
-/// Draws the first and last frames side by side (`titles` under each).
+/// Draws the first and last frames side by side (`titles` under each); `length_unit` follows a
+/// length as written (" nm", or "" for reduced units).
 pub fn draw_snapshots(
     path: &Path,
     views: [(&Snapshot, String); 2],
@@ -134,7 +135,7 @@ pub fn draw_snapshots(
             ))
             .map_err(|e| draw_err(path, e))?;
         }
-        let bar = format!("box {:.0} {length_unit} wide", lx);
+        let bar = format!("box {:.0}{length_unit} wide", lx);
         let (x0, y0) = px(s.lo[0], s.lo[1]);
         area.draw(&Text::new(bar, (x0, y0 + reach + 8), (FAMILY, 16)))
             .map_err(|e| draw_err(path, e))?;

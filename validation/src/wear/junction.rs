@@ -303,22 +303,24 @@ fn write_outputs(
         ));
     }
     write_atomic(&csv, text.as_bytes())?;
-    let units = match material.units {
-        Units::Nano => ("nm", "pN"),
-        Units::Reduced => ("length", "force"),
+    // Reduced configs carry no unit name (sigma for the MD model material, d_c or L elsewhere), so
+    // their lengths are printed bare and their axes say "reduced".
+    let (units, suffix) = match material.units {
+        Units::Nano => (("nm", "pN"), " nm"),
+        Units::Reduced => (("reduced", "reduced"), ""),
     };
     let axis_z = 0.5 * (r.first.lo[2] + r.first.hi[2]);
     let views = [
         (
             &r.first,
             format!(
-                "start: D = {0} {1}, d0 = {2} {1}",
-                cfg.diameter, units.0, cfg.d0
+                "start: D = {0}{1}, d0 = {2}{1}",
+                cfg.diameter, suffix, cfg.d0
             ),
         ),
         (
             &r.last,
-            format!("after {:.1} {} of sliding: {}", r.slide, units.0, r.outcome),
+            format!("after {:.1}{} of sliding: {}", r.slide, suffix, r.outcome),
         ),
     ];
     draw_snapshots(
@@ -326,7 +328,7 @@ fn write_outputs(
         views,
         axis_z,
         0.5 * cfg.diameter,
-        units.0,
+        suffix,
     )?;
     draw_force(&out.join("force.png"), &r.force, units)?;
     Ok(())
