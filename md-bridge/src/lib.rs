@@ -23,6 +23,7 @@ pub mod error;
 pub mod job;
 pub mod junction;
 pub mod lammps;
+pub mod lattice;
 pub mod loading;
 pub mod model;
 mod python;

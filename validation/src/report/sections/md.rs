@@ -8,6 +8,7 @@ use std::path::Path;
 
 use md_bridge::card::{length_scales, Material as Card};
 use md_bridge::job::{run_job, Job, JobOutput, JobRecord, RunOptions};
+use md_bridge::lattice::lattice_sums;
 use md_bridge::model::ModelConfig;
 use md_bridge::silica::SilicaConfig;
 use serde::{Deserialize, Serialize};
@@ -247,88 +248,6 @@ fn run_silica(ctx: &Context) -> Result<SectionOutput> {
         html,
         provenance: provenance(&rec),
     })
-}
-
-/// The 0 K 2D hexagonal Lennard-Jones crystal (energy-shifted at `cutoff`) from sums over its
-/// neighbours: zero-pressure spacing, number density, Born C11 and C12 (= C66), unrelaxed surface
-/// energy of a close-packed row. Reduced units (epsilon, sigma).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct LatticeSums {
-    pub spacing: f64,
-    pub number_density: f64,
-    pub c11: f64,
-    pub c12: f64,
-    pub surface_energy: f64,
-}
-
-pub fn lattice_sums(cutoff: f64) -> LatticeSums {
-    let lj = |r: f64| 4.0 * (r.powi(-12) - r.powi(-6));
-    let d1 = |r: f64| -48.0 * r.powi(-13) + 24.0 * r.powi(-7);
-    let d2 = |r: f64| 624.0 * r.powi(-14) - 168.0 * r.powi(-8);
-    let neighbours = |a: f64| {
-        let mut v = Vec::new();
-        for i in -8i32..=8 {
-            for j in -8i32..=8 {
-                let (x, y) = (
-                    a * (i as f64 + 0.5 * j as f64),
-                    a * 0.75f64.sqrt() * j as f64,
-                );
-                let r = x.hypot(y);
-                if r > 0.0 && r < cutoff {
-                    v.push((x, y));
-                }
-            }
-        }
-        v
-    };
-    // Zero pressure: sum over neighbours of r phi'(r) = 0 (bisection).
-    let virial = |a: f64| -> f64 {
-        neighbours(a)
-            .iter()
-            .map(|&(x, y)| x.hypot(y) * d1(x.hypot(y)))
-            .sum()
-    };
-    let (mut lo, mut hi) = (1.0, 1.2);
-    for _ in 0..100 {
-        let mid = 0.5 * (lo + hi);
-        if virial(mid) < 0.0 {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    let a = 0.5 * (lo + hi);
-    let area = 0.75f64.sqrt() * a * a;
-    // Born constants at zero stress; every atom is a centre of inversion: no internal relaxation.
-    let (mut c11, mut c12) = (0.0, 0.0);
-    for (x, y) in neighbours(a) {
-        let r = x.hypot(y);
-        let b = (d2(r) - d1(r) / r) / (r * r);
-        c11 += b * x.powi(4);
-        c12 += b * x * x * y * y;
-    }
-    // Energy per length to cut between two close-packed rows, halved (two surfaces).
-    let h = 0.75f64.sqrt() * a;
-    let mut cut = 0.0;
-    for row in 0..8 {
-        let (x0, y0) = (-0.5 * a * row as f64, -h * row as f64);
-        for j in 1..8 {
-            for i in -12..=12 {
-                let (x, y) = (a * (i as f64 + 0.5 * j as f64), h * j as f64);
-                let r = (x - x0).hypot(y - y0);
-                if r < cutoff {
-                    cut += lj(r) - lj(cutoff);
-                }
-            }
-        }
-    }
-    LatticeSums {
-        spacing: a,
-        number_density: 1.0 / area,
-        c11: c11 / (2.0 * area),
-        c12: c12 / (2.0 * area),
-        surface_energy: -cut / (2.0 * a),
-    }
 }
 
 fn run_model(ctx: &Context) -> Result<SectionOutput> {
