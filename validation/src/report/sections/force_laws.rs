@@ -89,6 +89,20 @@ fn params(m: &Material, ri: f64, rj: f64) -> PairParams {
     PairModel::cohesive(m.clone()).params(ri, rj, mi, mj)
 }
 
+/// The engine's normal force and eq 3's at `delta_N / delta_e` = each x, both over k_N delta_e.
+fn normal_curves(
+    p: &PairParams,
+    c: &Closed,
+    xs: impl Iterator<Item = f64>,
+) -> (Vec<(f64, f64)>, Vec<(f64, f64)>) {
+    let scale = c.k_n * c.delta_e;
+    xs.map(|x| {
+        let dn = x * c.delta_e;
+        ((x, normal_force(p, dn) / scale), (x, eq3(c, dn) / scale))
+    })
+    .unzip()
+}
+
 fn run(_ctx: &Context) -> Result<SectionOutput> {
     let base = Material::table4(0.15);
     let d_c = base.critical_diameter();
@@ -98,16 +112,7 @@ fn run(_ctx: &Context) -> Result<SectionOutput> {
     // Fig. 2: below d_c.
     let r = 0.3 * d_c;
     let (p, c) = (params(&base, r, r), closed(&base, r, r));
-    let scale = c.k_n * c.delta_e;
-    let xs: Vec<f64> = grid(-1.0, 1.15 * c.delta_f / c.delta_e, 400).collect();
-    let engine: Vec<(f64, f64)> = xs
-        .iter()
-        .map(|&x| (x, normal_force(&p, x * c.delta_e) / scale))
-        .collect();
-    let formula: Vec<(f64, f64)> = xs
-        .iter()
-        .map(|&x| (x, eq3(&c, x * c.delta_e) / scale))
-        .collect();
+    let (engine, formula) = normal_curves(&p, &c, grid(-1.0, 1.15 * c.delta_f / c.delta_e, 400));
     claims.push(max_gap_claim(
         "Fig. 2, eq 3",
         "normal force F_N(delta_N), d = 0.6 d_c: max |engine - eq 3| / (k_N delta_e)",
@@ -160,15 +165,7 @@ fn run(_ctx: &Context) -> Result<SectionOutput> {
         };
         let (p, c) = (params(&m, r, r), closed(&m, r, r));
         let xs: Vec<f64> = grid(-0.5, 1.3, 360).collect();
-        let scale = c.k_n * c.delta_e;
-        let engine: Vec<(f64, f64)> = xs
-            .iter()
-            .map(|&x| (x, normal_force(&p, x * c.delta_e) / scale))
-            .collect();
-        let formula: Vec<(f64, f64)> = xs
-            .iter()
-            .map(|&x| (x, eq3(&c, x * c.delta_e) / scale))
-            .collect();
+        let (engine, formula) = normal_curves(&p, &c, xs.iter().copied());
         claims.push(max_gap_claim(
             "Fig. A.2, eqs 3, A.49",
             &format!(
@@ -183,6 +180,7 @@ fn run(_ctx: &Context) -> Result<SectionOutput> {
             formula,
         );
         if s == 0.0 {
+            let scale = c.k_n * c.delta_e;
             let un: Vec<(f64, f64)> = xs
                 .iter()
                 .map(|&x| (x, eq3_uncorrected(&c, &m, x * c.delta_e) / scale))
