@@ -279,14 +279,15 @@ pub fn run_sliding_with(
     std::fs::create_dir_all(out).map_err(|e| ValidationError::io(out, e))?;
     let model = cfg.model()?;
     // Eq 11: pairs larger than d_m = d* / 8 break at delta_e, where gamma no longer enters (see
-    // `dem::scenario::sliding`); at d_m below the smallest pair (1.5 d0) d* has no effect at all.
+    // `dem::scenario::sliding`). Pairs' radii sums r_i + r_j span [0.75, 1.25] d0 (diameters in
+    // [0.75, 1.25] d0): d_m below 1.25 d0 leaves some pairs without gamma, below 0.75 d0 all of them.
     let d_m_over_d0 = cfg.d_star()? / 8.0 / cfg.d0();
-    if d_m_over_d0 < 2.5 {
+    if d_m_over_d0 < 1.25 {
         tracing::warn!(
             d_m_over_d0,
             "eq 11 of paper 004 fails for pairs above d_m = d*/8: they break at delta_e and gamma \
              (hence d*) does not enter them{}",
-            if d_m_over_d0 < 1.5 {
+            if d_m_over_d0 < 0.75 {
                 " (every pair here: d* has no effect)"
             } else {
                 ""
