@@ -47,13 +47,17 @@ pub fn run(args: SlidingArgs, threads: usize) -> Result<()> {
         )?;
         bar.finish();
         println!(
-            "{}: rho_TBL = {:.3} rho_0, h_TBL = {:.3} H, p_T = {:.4e} E (p_T / (tau_m rho_TBL) = {:.2}) \
-             at p_N = {} E ({} particles, {} steps, {:.1} s + {:.1} s relaxation)",
+            "{}: rho_TBL = {:.3} rho_0, h_TBL = {:.3} H, p_T = {:.4e} E (p_T / tau_m = {:.2}, \
+             p_T / (tau_m rho_TBL) = {:.2}; tau_m = {:.3} sigma_m, {}) at p_N = {} E ({} particles, \
+             {} steps, {:.1} s + {:.1} s relaxation)",
             s.regime.label(),
             s.rho_tbl,
             s.h_tbl,
             s.p_t,
+            s.p_t_over_tau_m,
             s.p_t_over_tau_rho,
+            s.tau_m_over_sigma_m,
+            if s.sigma_t.is_some() { "measured" } else { "given" },
             s.p_n,
             s.particles,
             s.steps,
@@ -69,13 +73,16 @@ pub fn run(args: SlidingArgs, threads: usize) -> Result<()> {
     let done = results.iter().flatten().count();
     for s in results.iter().flatten() {
         println!(
-            "p_N = {:<5} sigma_m = {:<5} d* = {:<5}: rho_TBL = {:.3}, h_TBL = {:.3}, p_T = {:.4e}, {}",
+            "p_N = {:<5} sigma_m = {:<5} d* = {:<5}: rho_TBL = {:.3}, h_TBL = {:.3}, p_T = {:.4e} \
+             ({:.2} tau_m, tau_m = {:.3} sigma_m), {}",
             s.p_n,
             s.strength,
             s.d_star,
             s.rho_tbl,
             s.h_tbl,
             s.p_t,
+            s.p_t_over_tau_m,
+            s.tau_m_over_sigma_m,
             s.regime.label()
         );
     }

@@ -36,6 +36,10 @@ fn small() -> (Sample, PairModel, SlidingConfig) {
     (sample, model, cfg)
 }
 
+/// The paper's tau_m = 0.22 sigma_m stands in for the measured one: these tests are about the run
+/// (the measure has its own test, `sliding_strength.rs`).
+const TAU_M: f64 = 0.022;
+
 fn timeless(r: &SlidingResult) -> String {
     let mut r = r.clone();
     r.wall_seconds = 0.0;
@@ -45,7 +49,7 @@ fn timeless(r: &SlidingResult) -> String {
 #[test]
 fn the_top_body_slides_at_v0_carries_p_n_and_threads_do_not_matter() {
     let (sample, model, cfg) = small();
-    let r = run(&sample, &model, &cfg, Parallelism::Sequential, None).unwrap();
+    let r = run(&sample, &model, &cfg, TAU_M, Parallelism::Sequential, None).unwrap();
     let t = r.steps as f64 * r.dt;
     // The top body moved v0 t by each force sample (velocity control).
     let last = r.force_top.last().unwrap();
@@ -94,14 +98,27 @@ fn the_top_body_slides_at_v0_carries_p_n_and_threads_do_not_matter() {
     assert!(r.p_t.is_finite() && r.p_t > 0.0, "p_T {}", r.p_t);
     assert!((r.d_m_over_d0 - 0.375).abs() < 1e-12);
     // Bit-identical on two threads.
-    let two = run(&sample, &model, &cfg, Parallelism::Threads(2), None).unwrap();
+    let two = run(&sample, &model, &cfg, TAU_M, Parallelism::Threads(2), None).unwrap();
     assert_eq!(timeless(&two), timeless(&r));
 }
 
 #[test]
-fn a_tangential_law_is_refused() {
+fn a_tangential_law_and_a_bad_tau_m_are_refused() {
     let (sample, _, cfg) = small();
     let cohesive = PairModel::cohesive(cfg.material().unwrap());
-    let e = run(&sample, &cohesive, &cfg, Parallelism::Sequential, None).unwrap_err();
+    let e = run(
+        &sample,
+        &cohesive,
+        &cfg,
+        TAU_M,
+        Parallelism::Sequential,
+        None,
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("normal-only"), "{e}");
+    let model = cfg.model().unwrap();
+    for bad in [0.0, -1.0, f64::NAN] {
+        let e = run(&sample, &model, &cfg, bad, Parallelism::Sequential, None).unwrap_err();
+        assert!(e.to_string().contains("tau_m"), "{e}");
+    }
 }

@@ -57,6 +57,7 @@ fn an_interrupted_sliding_run_resumes_bit_identically() {
                 &sample,
                 &model,
                 &cfg,
+                0.022,
                 Parallelism::Sequential,
                 Some(dump),
                 progress,

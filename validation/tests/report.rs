@@ -222,12 +222,29 @@ fn the_sliding_section_reports_the_trends_of_fig_6_from_its_runs() {
         let ratio = y(panel, series, hi) / y(panel, series, lo);
         assert_eq!(ratio.to_bits(), c.measured.to_bits(), "{c:?}");
     }
-    // One p_T row per run, each a finite ratio.
-    let pt: Vec<_> = claims.iter().filter(|c| c.item == "section 3").collect();
+    // One p_T row per run, each a finite ratio against the measured tau_m; one measured tau_m per
+    // sigma_m of the grid (0.1, 0.14, 0.2 E), each a positive fraction of sigma_m.
+    let section3 = claims.iter().filter(|c| c.item == "section 3");
+    let pt: Vec<_> = section3
+        .clone()
+        .filter(|c| c.quantity.starts_with("p_T"))
+        .collect();
     assert_eq!(pt.len(), 5);
-    assert!(pt.iter().all(|c| c.measured.is_finite()), "{pt:?}");
+    assert!(
+        pt.iter()
+            .all(|c| c.measured.is_finite() && c.measured > 0.0),
+        "{pt:?}"
+    );
+    let tau: Vec<_> = section3
+        .filter(|c| c.quantity.starts_with("tau_m"))
+        .collect();
+    assert_eq!(tau.len(), 3);
+    assert!(
+        tau.iter().all(|c| c.measured > 0.0 && c.measured < 1.0),
+        "{tau:?}"
+    );
     let html = std::fs::read_to_string(&w.html).unwrap();
-    assert_eq!(html.matches("src=\"data:image/png;base64,").count(), 2);
+    assert_eq!(html.matches("src=\"data:image/png;base64,").count(), 3);
     let again = run(&options(&out, &only), &Silent).unwrap();
     assert_eq!(again.cases_run, 0);
     std::fs::remove_dir_all(&out).unwrap();

@@ -8,7 +8,7 @@
 
 use std::path::Path;
 
-use dem::scenario::sliding::SlidingResult;
+use dem::scenario::sliding::{MaterialStrength, MeasuredPeak, SlidingResult};
 use plotters::prelude::*;
 use wear::tbl::moving_average;
 
@@ -195,5 +195,64 @@ pub fn draw_snapshot(path: &Path, r: &SlidingResult) -> Result<()> {
                 .map_err(|e| draw_err(path, e))?;
         }
     }
+    root.present().map_err(|e| draw_err(path, e))
+}
+
+/// Draws the strength tests of a sliding material: the shear curve (sigma_xy, and sigma_yy that the
+/// constant wall separation builds up) and the tensile curve, over sigma_m, with the peaks and the
+/// paper's tau_m = 0.22 sigma_m.
+pub fn draw_strength(path: &Path, m: &MaterialStrength) -> Result<()> {
+    ensure_font()?;
+    let labels = [
+        "stress of the test (sigma_xy in shear, sigma_yy in tension)",
+        "sigma_yy in the shear test (tension positive)",
+        "paper 004: tau_m = 0.22 sigma_m",
+        "peak (tau_m, sigma_t)",
+    ];
+    let (root, body) = keyed_figure(path, (1400, 560), &labels, 2, None)?;
+    let halves = body.split_evenly((1, 2));
+    let s = m.sigma_m;
+    let scaled = |c: &[(f64, f64, f64)], k: usize| -> Vec<(f64, f64)> {
+        c.iter()
+            .map(|p| (p.0, if k == 1 { p.1 } else { p.2 } / s))
+            .collect()
+    };
+    let peak = |p: &MeasuredPeak| vec![(p.strain_at_peak, p.peak / s)];
+    let last = |p: &MeasuredPeak| p.curve.last().map_or(0.0, |c| c.0);
+    let shear: Vec<Series> = vec![
+        (String::new(), scaled(&m.shear.curve, 1), Mark::Line, 0),
+        (String::new(), scaled(&m.shear.curve, 2), Mark::Line, 1),
+        (
+            String::new(),
+            vec![(0.0, 0.22), (last(&m.shear), 0.22)],
+            Mark::Target,
+            2,
+        ),
+        (String::new(), peak(&m.shear), Mark::Dots, 3),
+    ];
+    let title = format!(
+        "simple shear: tau_m = {:.3} sigma_m ({} particles)",
+        m.tau_over_sigma_m(),
+        m.particles
+    );
+    panel(
+        path,
+        &halves[0],
+        (&title, "shear strain", "stress / sigma_m"),
+        Scale::Linear,
+        &shear,
+    )?;
+    let tension: Vec<Series> = vec![
+        (String::new(), scaled(&m.tensile.curve, 1), Mark::Line, 0),
+        (String::new(), peak(&m.tensile), Mark::Dots, 3),
+    ];
+    let title = format!("tension: sigma_t = {:.3} sigma_m", m.sigma_t / s);
+    panel(
+        path,
+        &halves[1],
+        (&title, "normal strain", "stress / sigma_m"),
+        Scale::Linear,
+        &tension,
+    )?;
     root.present().map_err(|e| draw_err(path, e))
 }

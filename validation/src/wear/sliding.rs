@@ -1,14 +1,20 @@
 //! One sliding run, or a grid of them, as the workbench runs it (`cgdem sliding CONFIG --out DIR`,
 //! paper 004): the config file, the relaxed sample (relaxed in the run's folder, resumable), the run
 //! (resumable), and its outputs:
-//! - `summary.json`: `rho_tbl` (over rho_0), `h_tbl` (over H), `p_t`, `p_n`, `regime`, with the
-//!   material (sigma_m, gamma, d*), the cost and the settings;
+//! - `summary.json`: `rho_tbl` (over rho_0), `h_tbl` (over H), `p_t`, `p_n`, `regime`, `tau_m` (over
+//!   E, measured on the run's own relaxed box with the patch-test rig unless the config gives it, and
+//!   `tau_m_how`), `p_t_over_tau_m`, with the material (sigma_m, gamma, d*), the cost and the settings;
 //! - `profiles.csv`: the steady profiles over y / H (velocity over v0, density over rho_0 raw and
 //!   Savitzky-Golay filtered, the fitted Gaussian);
 //! - `windows.csv`: h_TBL / H and rho_TBL / rho_0 per window against the slide (Fig. 5);
 //! - `force.csv`: the horizontal and normal pair forces on the two bodies and p_T;
 //! - `sliding.dump`: LAMMPS-style frames (OVITO) with `half` and `height0` columns;
 //! - `profiles.png`, `h_tbl.png`, `snapshot.png` (see [`crate::figures::sliding`]).
+//!
+//! The strength tests (tau_m and sigma_t, [`dem::scenario::sliding::measure_strength`]) are jobs of
+//! their own in `DIR/strength/<key>/` (`strength.json`, `strength.csv`, `strength.png`), keyed by
+//! the material and the box only ([`SlidingConfig::material_test`]): the runs of a grid that share a
+//! material share one measurement.
 //!
 //! A grid (`[[grid]]` entries, each a p_N, sigma_m and d*) is a list of [`dem::jobs`] jobs: each run
 //! in `DIR/runs/<key>/` with its own outputs, side by side or sharded, and `DIR/grid.csv`.
@@ -20,14 +26,19 @@ use dem::io::checkpoint::write_atomic;
 use dem::io::progress::{self, ProgressFile};
 use dem::jobs::{run_jobs, JobCache, RunJobs};
 use dem::sample::make_sample_resumable;
-use dem::scenario::sliding::{run_resumable, SlidingConfig, SlidingResult};
+use dem::scenario::sliding::{
+    measure_strength, run_resumable, MaterialStrength, SlidingConfig, SlidingResult,
+};
 use dem::Parallelism;
 use serde::{Deserialize, Serialize};
 use wear::tbl::Regime;
 
 use super::json;
 use crate::error::{Result, ValidationError};
-use crate::figures::sliding::{draw_h_tbl, draw_profiles, draw_snapshot};
+use crate::figures::sliding::{draw_h_tbl, draw_profiles, draw_snapshot, draw_strength};
+
+/// Bumped when the strength tests' code changes what they give (retires cached measurements).
+const STRENGTH_VERSION: u32 = 1;
 
 /// One point of a grid: the settings that differ from the file's `[sliding]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -89,8 +100,14 @@ pub struct SlidingSummary {
     pub p_t: f64,
     pub p_n: f64,
     pub regime: Regime,
-    /// tau_m (units of E) and p_T over tau_m rho_TBL (1 where the contact area is the density's).
+    /// tau_m over E, how it was found (measured or given), tau_m / sigma_m, the measured tensile
+    /// strength sigma_t over E (none when tau_m was given), p_T / tau_m (about 1 in a shear band,
+    /// paper 004 section 3) and p_T over tau_m rho_TBL / rho_0 (about 1 in the mixed regime).
     pub tau_m: f64,
+    pub tau_m_how: String,
+    pub tau_m_over_sigma_m: f64,
+    pub sigma_t: Option<f64>,
+    pub p_t_over_tau_m: f64,
     pub p_t_over_tau_rho: f64,
     pub strength: f64,
     pub surface_energy: f64,
@@ -106,9 +123,154 @@ pub struct SlidingSummary {
     pub relax_seconds: f64,
 }
 
-/// Relaxes the sample and runs `cfg` into `out` (both resumable from their progress files there).
+/// The shear strength a run is compared with: measured on its material, or given by its config.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ShearStrength {
+    /// tau_m and, when measured, sigma_t (engine units).
+    pub tau_m: f64,
+    pub sigma_t: Option<f64>,
+    /// How it was found, in one line.
+    pub how: String,
+}
+
+impl ShearStrength {
+    fn given(cfg: &SlidingConfig) -> Option<Self> {
+        cfg.given_shear_strength().map(|tau_m| ShearStrength {
+            tau_m,
+            sigma_t: None,
+            how: format!(
+                "given: shear_strength_over_strength = {} (not measured)",
+                cfg.shear_strength_over_strength.unwrap_or_default()
+            ),
+        })
+    }
+
+    fn measured(m: &MaterialStrength) -> Self {
+        ShearStrength {
+            tau_m: m.tau_m,
+            sigma_t: Some(m.sigma_t),
+            how: m.how.clone(),
+        }
+    }
+}
+
+/// The inputs of a strength job (see the module docs).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StrengthJob {
+    pub version: u32,
+    pub sliding: SlidingConfig,
+}
+
+impl StrengthJob {
+    /// The strength job of a run (its material and box).
+    pub fn of(cfg: &SlidingConfig) -> Self {
+        StrengthJob {
+            version: STRENGTH_VERSION,
+            sliding: cfg.material_test(),
+        }
+    }
+}
+
+/// Relaxes the job's box and measures tau_m and sigma_t in `dir` (resumable from the progress files
+/// there), writing `strength.json`, `strength.csv` and `strength.png`.
+pub fn run_strength_job(
+    job: &StrengthJob,
+    dir: &Path,
+    par: Parallelism,
+) -> Result<MaterialStrength> {
+    let cfg = &job.sliding;
+    cfg.validate()?;
+    std::fs::create_dir_all(dir).map_err(|e| ValidationError::io(dir, e))?;
+    let model = cfg.model()?;
+    let relax_progress = ProgressFile::new(dir.join("relax.progress.json"));
+    let sample = make_sample_resumable(
+        &cfg.recipe()?,
+        &model,
+        &cfg.relax,
+        par,
+        Some(&relax_progress),
+    )?;
+    progress::remove(&relax_progress.path)?;
+    let m = measure_strength(&sample, cfg, &cfg.strength_tests, par, Some(dir))?;
+    json(&dir.join("strength.json"), &m)?;
+    let mut csv = String::from("test,strain,stress,sigma_yy\n");
+    for (test, p) in [("shear", &m.shear), ("tensile", &m.tensile)] {
+        for (e, s, n) in &p.curve {
+            writeln!(csv, "{test},{e},{s},{n}").expect("writing to a String");
+        }
+    }
+    write_atomic(&dir.join("strength.csv"), csv.as_bytes())?;
+    draw_strength(&dir.join("strength.png"), &m)?;
+    tracing::info!(
+        sigma_m = cfg.material.strength,
+        tau_m = m.tau_m,
+        tau_over_sigma_m = m.tau_over_sigma_m(),
+        sigma_t = m.sigma_t,
+        "sliding material strength (patch tests)"
+    );
+    Ok(m)
+}
+
+/// The shear strength of every run of `runs`: given by its config, or measured as a strength job in
+/// `root` (one job per distinct material, run as `how` says); `None` where another shard's job is
+/// not done yet.
+pub fn shear_strengths(
+    runs: &[SlidingConfig],
+    root: &Path,
+    how: &RunJobs,
+    par: Parallelism,
+) -> Result<Vec<Option<ShearStrength>>> {
+    let mut jobs: Vec<StrengthJob> = Vec::new();
+    for c in runs {
+        let j = StrengthJob::of(c);
+        if c.given_shear_strength().is_none() && !jobs.contains(&j) {
+            jobs.push(j);
+        }
+    }
+    let cache = JobCache::new(root);
+    let measured = run_jobs(&cache, &jobs, how, |job, dir| {
+        run_strength_job(job, dir, par)
+    })?;
+    Ok(runs
+        .iter()
+        .map(|c| {
+            ShearStrength::given(c).or_else(|| {
+                let j = StrengthJob::of(c);
+                let k = jobs.iter().position(|x| *x == j)?;
+                measured[k].as_ref().map(ShearStrength::measured)
+            })
+        })
+        .collect())
+}
+
+/// Relaxes the sample and runs `cfg` into `out` (both resumable from their progress files there),
+/// its shear strength measured first in `out/strength/` (or given by the config).
 pub fn run_sliding(
     cfg: &SlidingConfig,
+    out: &Path,
+    par: Parallelism,
+    report: &mut dyn FnMut(u64, u64),
+) -> Result<SlidingSummary> {
+    cfg.validate()?;
+    let how = RunJobs {
+        at_once: 1,
+        ..RunJobs::default()
+    };
+    let tau = shear_strengths(std::slice::from_ref(cfg), &out.join("strength"), &how, par)?
+        .pop()
+        .flatten()
+        .ok_or_else(|| {
+            ValidationError::Dem(dem::DemError::InvalidConfig(
+                "sliding: the strength job gave no result".into(),
+            ))
+        })?;
+    run_sliding_with(cfg, &tau, out, par, report)
+}
+
+/// [`run_sliding`] with the shear strength `tau` already found.
+pub fn run_sliding_with(
+    cfg: &SlidingConfig,
+    tau: &ShearStrength,
     out: &Path,
     par: Parallelism,
     report: &mut dyn FnMut(u64, u64),
@@ -117,14 +279,15 @@ pub fn run_sliding(
     std::fs::create_dir_all(out).map_err(|e| ValidationError::io(out, e))?;
     let model = cfg.model()?;
     // Eq 11: pairs larger than d_m = d* / 8 break at delta_e, where gamma no longer enters (see
-    // `dem::scenario::sliding`); at d_m below the smallest pair (1.5 d0) d* has no effect at all.
+    // `dem::scenario::sliding`). Pairs' radii sums r_i + r_j span [0.75, 1.25] d0 (diameters in
+    // [0.75, 1.25] d0): d_m below 1.25 d0 leaves some pairs without gamma, below 0.75 d0 all of them.
     let d_m_over_d0 = cfg.d_star()? / 8.0 / cfg.d0();
-    if d_m_over_d0 < 2.5 {
+    if d_m_over_d0 < 1.25 {
         tracing::warn!(
             d_m_over_d0,
             "eq 11 of paper 004 fails for pairs above d_m = d*/8: they break at delta_e and gamma \
              (hence d*) does not enter them{}",
-            if d_m_over_d0 < 1.5 {
+            if d_m_over_d0 < 0.75 {
                 " (every pair here: d* has no effect)"
             } else {
                 ""
@@ -148,6 +311,7 @@ pub fn run_sliding(
         &sample,
         &model,
         cfg,
+        tau.tau_m,
         par,
         dump.as_deref(),
         Some(&run_progress),
@@ -159,7 +323,11 @@ pub fn run_sliding(
         p_t: r.p_t,
         p_n: r.p_n,
         regime: r.regime,
-        tau_m: r.tau_m,
+        tau_m: r.tau_m / cfg.young_modulus,
+        tau_m_how: tau.how.clone(),
+        tau_m_over_sigma_m: r.tau_m / cfg.material.strength,
+        sigma_t: tau.sigma_t.map(|s| s / cfg.young_modulus),
+        p_t_over_tau_m: r.p_t / r.tau_m,
         p_t_over_tau_rho: r.p_t / (r.tau_m * r.rho_tbl),
         strength: cfg.material.strength,
         surface_energy: cfg.surface_energy()?,
@@ -186,19 +354,30 @@ pub fn run_grid(
     out: &Path,
     how: &RunJobs,
 ) -> Result<Vec<Option<SlidingSummary>>> {
+    let taus = shear_strengths(runs, &out.join("strength"), how, Parallelism::Sequential)?;
     let cache = JobCache::new(out.join("runs"));
     let results = run_jobs(&cache, runs, how, |cfg, dir| {
-        run_sliding(cfg, dir, Parallelism::Sequential, &mut |_, _| {})
+        let k = runs
+            .iter()
+            .position(|c| c == cfg)
+            .expect("a run of the list");
+        let tau = taus[k].as_ref().ok_or_else(|| {
+            ValidationError::Dem(dem::DemError::InvalidConfig(
+                "sliding grid: this shard's run needs a strength job that another shard has not                  finished; rerun once it has"
+                    .into(),
+            ))
+        })?;
+        run_sliding_with(cfg, tau, dir, Parallelism::Sequential, &mut |_, _| {})
     })?;
     let mut csv = String::from(
-        "p_n,strength,d_star,rho_tbl,h_tbl,p_t,tau_m,p_t_over_tau_rho,regime,particles,run_seconds,key\n",
+        "p_n,strength,d_star,rho_tbl,h_tbl,p_t,tau_m,p_t_over_tau_m,p_t_over_tau_rho,regime,particles,run_seconds,key\n",
     );
     for (cfg, r) in runs.iter().zip(&results) {
         let key = JobCache::key(cfg)?;
         let line = match r {
             Some(s) => writeln!(
                 csv,
-                "{},{},{},{},{},{},{},{},{},{},{},{}",
+                "{},{},{},{},{},{},{},{},{},{},{},{},{}",
                 s.p_n,
                 s.strength,
                 s.d_star,
@@ -206,6 +385,7 @@ pub fn run_grid(
                 s.h_tbl,
                 s.p_t,
                 s.tau_m,
+                s.p_t_over_tau_m,
                 s.p_t_over_tau_rho,
                 s.regime.label(),
                 s.particles,
@@ -214,7 +394,7 @@ pub fn run_grid(
             ),
             None => writeln!(
                 csv,
-                "{},{},{},,,,,,pending,,,{}",
+                "{},{},{},,,,,,,pending,,,{}",
                 cfg.pressure,
                 cfg.material.strength,
                 cfg.d_star()?,

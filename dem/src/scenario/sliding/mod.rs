@@ -24,9 +24,13 @@
 //! averaged over windows of `samples_per_window` samples; per window h_TBL / H and rho_TBL / rho_0;
 //! over the steady part (the windows after `steady_from` of the run) the averaged profiles, rho_TBL
 //! from the Gaussian fit, the mean h_TBL / H, p_T from the bodies' horizontal forces, and the regime.
+//!
+//! The material's shear strength tau_m, which p_T is compared with (paper 004 section 3), is measured
+//! on the run's own relaxed box with the patch-test rig ([`measure_strength`], module `strength`).
 
 mod geometry;
 mod run;
+mod strength;
 
 use serde::{Deserialize, Serialize};
 use wear::tbl::{LayerParams, RegimeParams};
@@ -37,6 +41,7 @@ use crate::sample::{RelaxConfig, SampleSpec};
 
 pub use geometry::{build, Geometry, BODY_BOTTOM_HALF, BODY_TOP_HALF};
 pub use run::{run, run_resumable, SlidingResult, WindowRecord, HEIGHT_BANDS};
+pub use strength::{measure_strength, MaterialStrength, MeasuredPeak, StrengthTests};
 
 /// The material of paper 004: its strength and one of its surface energy or critical size.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -117,8 +122,12 @@ pub struct SlidingConfig {
     /// Fraction of the run after which it is taken as steady; default 0.5 (Fig. 5: the start-up peak
     /// lasts a few L of the 50 L; later windows are safely past it).
     pub steady_from: f64,
-    /// Shear strength tau_m / sigma_m of the material; default 0.22 (paper 004's measure, section 3).
-    pub shear_strength_over_strength: f64,
+    /// Shear strength tau_m / sigma_m of the material, when given; default none: tau_m is measured on
+    /// the run's own relaxed box with the patch-test rig ([`measure_strength`]; paper 004 gives
+    /// 0.22 without its method).
+    pub shear_strength_over_strength: Option<f64>,
+    /// The patch tests that measure tau_m and sigma_t; default [`StrengthTests::default`].
+    pub strength_tests: StrengthTests,
     /// Velocity thresholds and filter of the profiles; default the paper's (the fit's smallest width
     /// is set to d0 / H by the run).
     pub layer: LayerParams,
@@ -150,7 +159,8 @@ impl Default for SlidingConfig {
             force_samples: 1000,
             dump_frames: 50,
             steady_from: 0.5,
-            shear_strength_over_strength: 0.22,
+            shear_strength_over_strength: None,
+            strength_tests: StrengthTests::default(),
             layer: LayerParams::default(),
             regime: RegimeParams::default(),
         }
@@ -248,7 +258,7 @@ impl SlidingConfig {
             ("time_step_fraction", self.time_step_fraction),
             (
                 "shear_strength_over_strength",
-                self.shear_strength_over_strength,
+                self.shear_strength_over_strength.unwrap_or(1.0),
             ),
         ];
         if let Some(m) = crate::error::not_positive(&positive) {
@@ -337,6 +347,32 @@ impl SlidingConfig {
         model.validate()
     }
 
+    /// tau_m when the config gives it (`shear_strength_over_strength` sigma_m), else none: measure it.
+    pub fn given_shear_strength(&self) -> Option<f64> {
+        self.shear_strength_over_strength
+            .map(|r| r * self.material.strength)
+    }
+
+    /// The part of this config that the material's strength tests depend on (the relaxed box: material,
+    /// sizes, seed, relaxation; and the tests), the rest at its defaults: runs that differ only in
+    /// p_N, distance or measures share one strength measurement (one job key).
+    pub fn material_test(&self) -> SlidingConfig {
+        SlidingConfig {
+            young_modulus: self.young_modulus,
+            density: self.density,
+            restitution: self.restitution,
+            material: self.material.clone(),
+            length: self.length,
+            d0_over_l: self.d0_over_l,
+            width_over_d0: self.width_over_d0,
+            seed: self.seed,
+            insert_fraction: self.insert_fraction,
+            relax: self.relax,
+            strength_tests: self.strength_tests,
+            ..SlidingConfig::default()
+        }
+    }
+
     /// Steps for the sliding distance at time step `dt`.
     pub fn steps(&self, dt: f64) -> u64 {
         (self.distance_over_l * self.length / self.velocity() / dt).ceil() as u64
@@ -375,6 +411,25 @@ mod tests {
         let mut both_none = SlidingConfig::default();
         both_none.material.d_star = None;
         assert!(both_none.validate().is_err());
+        // Runs that differ in p_N or distance share their strength test; another seed does not.
+        let other = SlidingConfig {
+            pressure: 0.04,
+            distance_over_l: 3.0,
+            ..c.clone()
+        };
+        assert_eq!(other.material_test(), c.material_test());
+        let seeded = SlidingConfig {
+            seed: 2,
+            ..c.clone()
+        };
+        assert_ne!(seeded.material_test(), c.material_test());
+        assert_eq!(c.given_shear_strength(), None);
+        let given = SlidingConfig {
+            shear_strength_over_strength: Some(0.22),
+            ..c.clone()
+        };
+        assert!((given.given_shear_strength().unwrap() - 0.022).abs() < 1e-15);
+        assert!(with(&|c| c.shear_strength_over_strength = Some(-0.2)).contains("shear_strength"));
         let mut by_gamma = both_none.clone();
         by_gamma.material.surface_energy = Some(0.1 * 0.01 / 32.0);
         assert!((by_gamma.d_star().unwrap() - 0.1).abs() < 1e-12);

@@ -158,7 +158,7 @@ pub struct SlidingResult {
     pub profile: Profile,
     pub layer: LayerMeasures,
     /// rho_TBL / rho_0 of the steady profile, mean h_TBL / H of the steady windows, mean p_T over the
-    /// steady force samples, p_N, tau_m (all in the engine's units).
+    /// steady force samples, p_N, and the tau_m the run was given (all in the engine's units).
     pub rho_tbl: f64,
     pub h_tbl: f64,
     pub p_t: f64,
@@ -191,27 +191,37 @@ pub fn run(
     relaxed: &Sample,
     model: &PairModel,
     cfg: &SlidingConfig,
+    tau_m: f64,
     par: Parallelism,
     dump: Option<&Path>,
 ) -> Result<SlidingResult> {
-    run_resumable(relaxed, model, cfg, par, dump, None, &mut |_, _| {})
+    run_resumable(relaxed, model, cfg, tau_m, par, dump, None, &mut |_, _| {})
 }
 
 /// Cuts `relaxed` into two halves, slides them and measures the layer. `model` must be the
-/// normal-only law (paper 004). With `dump`, writes LAMMPS-style frames there (columns `half` and
+/// normal-only law (paper 004); `tau_m` is the material's shear strength (measured by
+/// [`super::measure_strength`], or [`SlidingConfig::given_shear_strength`]), which the regime label
+/// compares p_T with. With `dump`, writes LAMMPS-style frames there (columns `half` and
 /// `height0`, the initial-height band for Fig. 3's colours). With `progress`, saves the run's state
 /// every few minutes and on an interrupt, and continues from it when it holds the same inputs'
 /// progress (bit-identical to an uninterrupted run). `report(step, total)` is called at every window.
+#[allow(clippy::too_many_arguments)]
 pub fn run_resumable(
     relaxed: &Sample,
     model: &PairModel,
     cfg: &SlidingConfig,
+    tau_m: f64,
     par: Parallelism,
     dump: Option<&Path>,
     progress: Option<&ProgressFile>,
     report: &mut dyn FnMut(u64, u64),
 ) -> Result<SlidingResult> {
     SlidingConfig::check_model(model)?;
+    if !(tau_m.is_finite() && tau_m > 0.0) {
+        return Err(DemError::InvalidConfig(format!(
+            "sliding: the shear strength tau_m = {tau_m} must be positive"
+        )));
+    }
     let geo = build(relaxed, cfg)?;
     let d0 = cfg.d0();
     let run_cfg = RunConfig {
@@ -326,7 +336,6 @@ pub fn run_resumable(
         .map(|(a, b)| shear_traction(a.force[0], b.force[0], area))
         .collect();
     let p_t = steady_forces.iter().sum::<f64>() / steady_forces.len().max(1) as f64;
-    let tau_m = cfg.shear_strength_over_strength * cfg.material.strength;
     let regime = classify_regime(
         &RegimeData {
             rho_tbl: layer.rho_tbl,

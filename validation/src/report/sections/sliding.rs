@@ -1,6 +1,8 @@
 //! Wear: third-body sliding (paper 004 sections 2-3, Fig. 6): the density of the third-body layer
 //! rho_TBL against the normal pressure p_N (Fig. 6a) and against the strength sigma_m at fixed d*
-//! (Fig. 6b), with each run's regime and p_T against the shear strength.
+//! (Fig. 6b), with each run's regime and p_T against the shear strength tau_m, which is measured on
+//! each material's own relaxed box with the patch-test rig (simple shear to the peak, one strength job
+//! per sigma_m, [`crate::wear::sliding::run_strength_job`]).
 //!
 //! Quick profile: L = 20 d0 (the paper's 100 d0), 5 L of sliding (the paper's 50 L), 100 bins, one
 //! seed, d* = 0.2 L. At that coarse d0, d_m = d*/8 lies below every pair, so d* (gamma) does not enter
@@ -15,11 +17,21 @@ use super::super::html::{esc, png_img};
 use crate::report::{
     Claim, Context, Figure, Kind, Panel, Profile, Section, SectionOutput, Tolerance,
 };
-use crate::wear::sliding::{run_sliding, SlidingSummary};
+use crate::wear::sliding::{
+    run_sliding_with, run_strength_job, ShearStrength, SlidingSummary, StrengthJob,
+};
 use crate::Result;
+use dem::scenario::sliding::MaterialStrength;
 
 /// Bumped when the runs' code changes what they give (retires cached results).
-const VERSION: u32 = 1;
+const VERSION: u32 = 2;
+
+/// "Near" in paper 004 section 3 ("roughly equal", "indeed near"): p_T within 30 % of tau_m (or of
+/// tau_m rho_TBL / rho_0). The quick runs have one seed and 2.5 L of steady sliding, p_T wanders by
+/// about 10 % between force samples' halves, and tau_m is the peak of one sample's shear curve, which
+/// fluctuates by about 10 % about its rising part; 30 % is these combined with a margin, and still
+/// tells a p_T at tau_m from one at half of it.
+const NEAR: f64 = 0.3;
 
 pub const SECTION: Section = Section {
     id: "wear-sliding",
@@ -31,6 +43,13 @@ pub const SECTION: Section = Section {
 struct RunCase {
     version: u32,
     sliding: SlidingConfig,
+}
+
+/// A cached strength job's result and its figure as an inline image.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+struct StrengthOut {
+    strength: MaterialStrength,
+    figure: String,
 }
 
 /// A cached run: its summary and its two pictures as inline images.
@@ -94,8 +113,40 @@ fn cases(profile: Profile) -> Vec<RunCase> {
 
 fn run(ctx: &Context) -> Result<SectionOutput> {
     let cases = cases(ctx.profile);
+    let mut jobs: Vec<StrengthJob> = Vec::new();
+    for c in &cases {
+        let j = StrengthJob::of(&c.sliding);
+        if !jobs.contains(&j) {
+            jobs.push(j);
+        }
+    }
+    let strengths: Vec<StrengthOut> =
+        ctx.jobs("sliding strength tests", &jobs, |job, dir, par| {
+            let strength = run_strength_job(job, dir, par)?;
+            let what = format!("sigma_m = {} E", job.sliding.material.strength);
+            Ok(StrengthOut {
+                strength,
+                figure: png_img(
+                    &dir.join("strength.png"),
+                    &format!("strength tests, {what}"),
+                )?,
+            })
+        })?;
+    let tau_of = |c: &SlidingConfig| -> ShearStrength {
+        let k = jobs
+            .iter()
+            .position(|j| *j == StrengthJob::of(c))
+            .expect("every case has its strength job");
+        let m = &strengths[k].strength;
+        ShearStrength {
+            tau_m: m.tau_m,
+            sigma_t: Some(m.sigma_t),
+            how: m.how.clone(),
+        }
+    };
     let outs: Vec<RunOut> = ctx.jobs("sliding runs", &cases, |case, dir, par| {
-        let summary = run_sliding(&case.sliding, dir, par, &mut |_, _| {})?;
+        let tau = tau_of(&case.sliding);
+        let summary = run_sliding_with(&case.sliding, &tau, dir, par, &mut |_, _| {})?;
         let what = format!(
             "p_N = {} E, sigma_m = {} E",
             case.sliding.pressure, case.sliding.material.strength
@@ -110,7 +161,7 @@ fn run(ctx: &Context) -> Result<SectionOutput> {
     Ok(SectionOutput {
         claims: claims(&runs),
         figures: vec![figure(&runs)],
-        html: page(&outs, ctx.profile),
+        html: page(&outs, &strengths, ctx.profile),
         provenance: vec![],
     })
 }
@@ -151,27 +202,70 @@ fn claims(runs: &[&SlidingSummary]) -> Vec<Claim> {
         );
     }
     // Paper 004 section 3: in the shear band the layer transmits about the material's shear
-    // strength tau_m; in the mixed regime about tau_m rho_TBL / rho_0.
+    // strength tau_m; in the mixed regime about tau_m rho_TBL / rho_0. tau_m is ours, measured.
     for r in runs {
         let (ratio, what) = match r.regime {
-            Regime::ShearBand => (r.p_t / r.tau_m, "p_T / tau_m"),
-            _ => (r.p_t_over_tau_rho, "p_T / (tau_m rho_TBL / rho_0)"),
+            Regime::ShearBand => (r.p_t_over_tau_m, "p_T / tau_m"),
+            Regime::Mixed => (r.p_t_over_tau_rho, "p_T / (tau_m rho_TBL / rho_0)"),
+            Regime::GrowingParticles => (r.p_t_over_tau_rho, "p_T / (tau_m rho_TBL / rho_0)"),
+        };
+        let tolerance = if r.regime == Regime::GrowingParticles {
+            // Lubricated: the paper gives no value to be near, only "as low as 0.001 E".
+            Tolerance::Info
+        } else {
+            Tolerance::Relative(NEAR)
         };
         c.push(
             Claim::new(
                 "004",
                 "section 3",
                 format!(
-                    "{what} at p_N = {} E, sigma_m = {} E ({})",
+                    "{what} at p_N = {} E, sigma_m = {} E ({}; tau_m measured)",
                     r.p_n,
                     r.strength,
                     r.regime.label()
                 ),
                 1.0,
                 ratio,
+                tolerance,
+            )
+            .note(format!(
+                "tau_m = {:.3} sigma_m (patch-test peak of this material's box), p_T = {:.3e} E, \
+                 rho_TBL / rho_0 = {:.3}; within 30 %: the paper's 'roughly equal' with one seed; \
+                 with the paper's tau_m = 0.22 sigma_m instead: {:.2}",
+                r.tau_m_over_sigma_m,
+                r.p_t,
+                r.rho_tbl,
+                ratio * r.tau_m_over_sigma_m / 0.22
+            )),
+        );
+    }
+    // The paper's own tau_m, for comparison with ours.
+    let mut seen: Vec<f64> = Vec::new();
+    for r in runs {
+        if seen.contains(&r.strength) {
+            continue;
+        }
+        seen.push(r.strength);
+        c.push(
+            Claim::new(
+                "004",
+                "section 3",
+                format!(
+                    "tau_m / sigma_m of our material at sigma_m = {} E (paper: about 0.22)",
+                    r.strength
+                ),
+                0.22,
+                r.tau_m_over_sigma_m,
                 Tolerance::Info,
             )
-            .note("tau_m = 0.22 sigma_m, the paper's measured ratio; ours from a patch test is not measured yet"),
+            .note(format!(
+                "patch-test peak; sigma_t = {} sigma_m in tension",
+                r.sigma_t.map_or("(not measured)".to_string(), |s| format!(
+                    "{:.3}",
+                    s / r.strength
+                ))
+            )),
         );
     }
     c
@@ -229,7 +323,7 @@ fn figure(runs: &[&SlidingSummary]) -> Figure {
     .panel(fig_b)
 }
 
-fn page(outs: &[RunOut], profile: Profile) -> String {
+fn page(outs: &[RunOut], strengths: &[StrengthOut], profile: Profile) -> String {
     let mut h = String::from(
         "<p>Quasi-2D box L x L x 3 d0 of paper 004 with the normal-only force (nu = 1/4), log-normal \
          sizes, two halves with a non-matching interface, the top body under p_N dragged at \
@@ -241,23 +335,52 @@ fn page(outs: &[RunOut], profile: Profile) -> String {
               does not enter at this d0 (d*/8 below every pair), so only the p_N and sigma_m trends \
               are tested.</p>\n";
     }
+    h += "<p>tau_m is measured, not taken from the paper: the shear patch test (paper 000 Fig. 4c) \
+          on each material's own relaxed box (the sliding run's recipe, law and seed, before the cut), \
+          top wall moved along x at constant separation, strain rate 1e-5 per step; tau_m is the \
+          peak of sigma_xy, sigma_t the peak of the tensile test.</p>\n";
+    h += "<table><tr><th>sigma_m (E)</th><th>tau_m / sigma_m</th><th>at shear strain</th>\
+          <th>sigma_t / sigma_m</th><th>particles</th><th>tests (s)</th></tr>\n";
+    for s in strengths {
+        let m = &s.strength;
+        h += &format!(
+            "<tr><td>{}</td><td>{:.3}</td><td>{:.3}</td><td>{:.3}</td><td>{}</td><td>{:.0}</td></tr>\n",
+            m.sigma_m,
+            m.tau_over_sigma_m(),
+            m.shear.strain_at_peak,
+            m.sigma_t / m.sigma_m,
+            m.particles,
+            m.shear.wall_seconds + m.tensile.wall_seconds
+        );
+    }
+    h += "</table>\n";
     h += "<table><tr><th>p_N (E)</th><th>sigma_m (E)</th><th>regime</th><th>rho_TBL / rho_0</th>\
-          <th>h_TBL / H</th><th>p_T (E)</th><th>particles</th><th>run (s)</th></tr>\n";
+          <th>h_TBL / H</th><th>p_T (E)</th><th>p_T / tau_m</th><th>p_T / (tau_m rho_TBL / rho_0)</th>\
+          <th>particles</th><th>run (s)</th></tr>\n";
     for o in outs {
         let r = &o.summary;
         h += &format!(
-            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{:.3}</td><td>{:.3}</td><td>{:.2e}</td><td>{}</td><td>{:.0}</td></tr>\n",
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{:.3}</td><td>{:.3}</td><td>{:.2e}</td><td>{:.2}</td><td>{:.2}</td><td>{}</td><td>{:.0}</td></tr>\n",
             r.p_n,
             r.strength,
             esc(r.regime.label()),
             r.rho_tbl,
             r.h_tbl,
             r.p_t,
+            r.p_t_over_tau_m,
+            r.p_t_over_tau_rho,
             r.particles,
             r.run_seconds
         );
     }
     h += "</table>\n";
+    if let Some(s) = strengths.iter().find(|s| s.strength.sigma_m == 0.1) {
+        h += &format!(
+            "<figure>{}<figcaption>strength tests of the sigma_m = 0.1 E material: shear (left) and \
+             tension (right), stresses over sigma_m</figcaption></figure>\n",
+            s.figure
+        );
+    }
     if let Some(o) = outs.iter().find(|o| o.summary.p_n == 0.02) {
         h += &format!(
             "<figure>{}<figcaption>p_N = 0.02 E, sigma_m = {} E: velocity and density profiles \

@@ -1,0 +1,119 @@
+//! The sliding material's strengths from the patch-test rig (paper 004 section 3: tau_m ~ 0.22
+//! sigma_m).
+//!
+//! Why tau_m is not linear in sigma_m at fixed d*: the normal-only law's force is k delta with
+//! k = A_eff E / d, independent of sigma_m; sigma_m sets only where a pair breaks, delta_e =
+//! d sigma_m / E (pairs above d_c = d*/8, all of them here). A pair attracts over a range that grows
+//! with sigma_m, so the relaxed box of a stronger material holds more interacting partners (measured
+//! at L = 10 d0: 7.3, 7.8, 9.4, 10.5, 12.2 at sigma_m = 0.01, 0.02, 0.05, 0.1, 0.2 E), and its
+//! strengths grow faster than sigma_m: tau_m / sigma_m = 0.14, 0.20, 0.24, 0.29, 0.36 and
+//! sigma_t / sigma_m = 0.17, 0.20, 0.31, 0.49, 0.65 (docs/sliding.md). The test asserts that trend and
+//! its cause, and tau_m near the paper's 0.22 sigma_m at the paper's sigma_m = 0.1 E.
+
+use dem::sample::{make_sample, RelaxConfig, Sample};
+use dem::scenario::sliding::{
+    measure_strength, MaterialStrength, SlidingConfig, SlidingMaterial, StrengthTests,
+};
+use dem::Parallelism;
+
+/// L = 10 d0 (d0 = 0.1 L), d* = 0.3 L (d_m = 0.375 d0, below every pair).
+fn cfg(sigma_m: f64) -> SlidingConfig {
+    SlidingConfig {
+        d0_over_l: 0.1,
+        material: SlidingMaterial {
+            strength: sigma_m,
+            surface_energy: None,
+            d_star: Some(0.3),
+        },
+        ..SlidingConfig::default()
+    }
+}
+
+fn sample(c: &SlidingConfig) -> Sample {
+    make_sample(
+        &c.recipe().unwrap(),
+        &c.model().unwrap(),
+        &RelaxConfig::default(),
+        Parallelism::Sequential,
+    )
+    .unwrap()
+}
+
+/// The strengths and the mean number of interacting partners of the relaxed box.
+fn measure(sigma_m: f64) -> (MaterialStrength, f64) {
+    let c = cfg(sigma_m);
+    let relaxed = sample(&c);
+    let partners = dem::sample::stats::coordination(
+        &relaxed.particles,
+        &relaxed.sim_box,
+        &c.model().unwrap(),
+        1e-3,
+    )
+    .unwrap()
+    .interacting;
+    let s = measure_strength(
+        &relaxed,
+        &c,
+        &StrengthTests::default(),
+        Parallelism::Sequential,
+        None,
+    )
+    .unwrap();
+    eprintln!(
+        "sigma_m = {sigma_m}: tau_m = {:.5} ({:.3} sigma_m, peak at {:.3}, {} steps), sigma_t = {:.5} \
+         ({:.3} sigma_m, peak at {:.3}, {} steps), {} particles",
+        s.tau_m,
+        s.tau_over_sigma_m(),
+        s.shear.strain_at_peak,
+        s.shear.steps,
+        s.sigma_t,
+        s.sigma_t / sigma_m,
+        s.tensile.strain_at_peak,
+        s.tensile.steps,
+        s.particles
+    );
+    (s, partners)
+}
+
+#[test]
+fn strengths_grow_faster_than_sigma_m_and_tau_m_is_near_the_papers() {
+    let (a, za) = measure(0.1);
+    let (b, zb) = measure(0.2);
+    for s in [&a, &b] {
+        // Each test went past its peak and reports the largest stress it recorded.
+        for p in [&s.shear, &s.tensile] {
+            let last = p.curve.last().unwrap().0;
+            assert!(
+                last > p.strain_at_peak + 0.01,
+                "{last} vs {}",
+                p.strain_at_peak
+            );
+            let max = p.curve.iter().map(|c| c.1).fold(f64::MIN, f64::max);
+            assert_eq!(max, p.peak);
+        }
+        // Without tangential forces the box is weaker in shear than in tension.
+        assert!(s.tau_m < s.sigma_t, "{} vs {}", s.tau_m, s.sigma_t);
+    }
+    // The cause: more interacting partners at the larger sigma_m (longer attraction range) ...
+    assert!(zb > za + 1.0, "partners {za} at 0.1 E, {zb} at 0.2 E");
+    // ... and the effect: both strengths more than double when sigma_m doubles (measured 2.4, 2.6).
+    let (shear, tension) = (b.tau_m / a.tau_m, b.sigma_t / a.sigma_t);
+    assert!(shear > 2.1, "tau_m(0.2) / tau_m(0.1) = {shear}");
+    assert!(tension > 2.1, "sigma_t(0.2) / sigma_t(0.1) = {tension}");
+    // Paper 004: tau_m "roughly" 0.22 sigma_m (method and sample not given; at sigma_m = 0.1 E);
+    // within 40 % at this small box (measured 0.29 here, 0.27 at L = 20 d0).
+    let r = a.tau_over_sigma_m();
+    assert!((r - 0.22).abs() < 0.4 * 0.22, "tau_m = {r} sigma_m");
+}
+
+#[test]
+fn tests_with_the_wrong_mode_are_refused() {
+    let c = cfg(0.1);
+    let mut t = StrengthTests::default();
+    t.shear.mode = dem::scenario::patch::StrengthMode::Tensile;
+    let bx = dem::domain::SimBox::new(dem::Vec3::zeros(), dem::Vec3::new(1.0, 1.0, 0.3), [true; 3])
+        .unwrap();
+    let empty = Sample::new(dem::state::Particles::default(), bx, 0.1, "empty");
+    let e = measure_strength(&empty, &c, &t, Parallelism::Sequential, None).unwrap_err();
+    assert!(e.to_string().contains("mode"), "{e}");
+}
