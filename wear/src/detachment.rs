@@ -375,7 +375,7 @@ mod tests {
     #[test]
     fn the_estimate_is_the_maximum_of_the_likelihood() {
         // 33 runs, overlapping outcomes: the fit beats every point of a brute-force grid.
-        let data = vec![
+        let data = [
             (10.0, false),
             (10.0, false),
             (12.0, false),
