@@ -74,6 +74,10 @@ pub struct DemSearchRef {
     /// `[scan]` one.
     #[serde(default)]
     pub scan_outside: Option<bool>,
+    /// More sizes for its scan (the dstar config's length unit), where the search left a gap the
+    /// transition may sit in; default none.
+    #[serde(default)]
+    pub scan_extra_sizes: Vec<f64>,
 }
 
 impl DemSearchRef {
@@ -153,18 +157,30 @@ pub fn compare(
             sc.validate(&[("[md]".into(), &file.md.seeds)])?;
             for (r, df, _, _) in &searches {
                 let name = r.config.display().to_string();
-                r.scan(sc).validate(&[(name, &df.search.seeds)])?;
+                r.scan(sc).validate(&[(name.clone(), &df.search.seeds)])?;
+                let limits = df.settings()?.limits;
+                if let Some(d) = r
+                    .scan_extra_sizes
+                    .iter()
+                    .find(|d| !(d.is_finite() && limits[0] <= **d && **d <= limits[1]))
+                {
+                    return Err(ValidationError::Config {
+                        path: name,
+                        reason: format!(
+                            "scan_extra_sizes: {d} lies outside the search's limits {limits:?}"
+                        ),
+                    });
+                }
             }
         }
         None => {
-            if let Some(r) = file
-                .dem
-                .iter()
-                .find(|r| r.scan_seeds.is_some() || r.scan_outside.is_some())
-            {
+            if let Some(r) = file.dem.iter().find(|r| {
+                r.scan_seeds.is_some() || r.scan_outside.is_some() || !r.scan_extra_sizes.is_empty()
+            }) {
                 return Err(ValidationError::Config {
                     path: r.config.display().to_string(),
-                    reason: "scan_seeds and scan_outside need a [scan] section".into(),
+                    reason: "scan_seeds, scan_outside and scan_extra_sizes need a [scan] section"
+                        .into(),
                 });
             }
         }
@@ -190,6 +206,7 @@ pub fn compare(
                 material,
                 dir,
                 &r.scan(sc),
+                &r.scan_extra_sizes,
                 &res,
                 to_sigma,
                 how,
@@ -258,13 +275,14 @@ fn dem_scan(
     material: &calibrate::ResolvedMaterial,
     dir: &Path,
     sc: &scan::ScanConfig,
+    extra: &[f64],
     res: &DstarResult,
     to_sigma: f64,
     how: &CompareRun,
 ) -> Result<scan::Detachment> {
     let mut visited: Vec<f64> = res.runs.iter().map(|r| r.diameter).collect();
     visited.dedup();
-    let sizes = scan::scan_sizes(
+    let mut sizes = scan::scan_sizes(
         &visited,
         &res.bracket,
         &res.split,
@@ -272,6 +290,9 @@ fn dem_scan(
         df.settings()?.limits,
         sc.outside,
     );
+    sizes.extend_from_slice(extra);
+    sizes.sort_by(f64::total_cmp);
+    sizes.dedup();
     tracing::info!(?sizes, seeds = ?sc.seeds, out = %dir.display(), "DEM detachment scan");
     let batch = run_sizes(df, material, dir, &sizes, &sc.seeds, &how.dem, how.par)?;
     let trial = |r: &crate::wear::junction::JunctionSummary, scan: bool| scan::Trial {
