@@ -201,16 +201,7 @@ pub fn compare(
             Units::Nano => 1.0 / file.model.sigma_nm,
         };
         let detachment = match &file.scan {
-            Some(sc) => Some(dem_scan(
-                df,
-                material,
-                dir,
-                &r.scan(sc),
-                &r.scan_extra_sizes,
-                &res,
-                to_sigma,
-                how,
-            )?),
+            Some(sc) => Some(dem_scan(df, material, dir, (r, sc), &res, to_sigma, how)?),
             None => None,
         };
         let mut e = DemEntry::new(&r.config, dir, to_sigma, res);
@@ -274,12 +265,14 @@ fn dem_scan(
     df: &DstarFile,
     material: &calibrate::ResolvedMaterial,
     dir: &Path,
-    sc: &scan::ScanConfig,
-    extra: &[f64],
+    (entry, sc): (&DemSearchRef, &scan::ScanConfig),
     res: &DstarResult,
     to_sigma: f64,
     how: &CompareRun,
 ) -> Result<scan::Detachment> {
+    // This entry's seeds and steps, and its extra sizes.
+    let sc = &entry.scan(sc);
+    let extra = &entry.scan_extra_sizes;
     let mut visited: Vec<f64> = res.runs.iter().map(|r| r.diameter).collect();
     visited.dedup();
     let mut sizes = scan::scan_sizes(
