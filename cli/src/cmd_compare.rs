@@ -100,6 +100,24 @@ pub fn run(args: CompareArgs, threads: usize) -> Result<()> {
             a.centre_ratio.map_or("-".to_string(), |c| format!("{c:.2}"))
         );
     }
+    if r.md_detachment.is_some() {
+        println!(
+            "MD detachment: {}",
+            validation::compare::summary::d50_words(r.md_detachment.as_ref())
+        );
+    }
+    for e in r.dem.iter().filter(|e| e.detachment.is_some()) {
+        let q = r.d50_ratios.iter().find(|q| q.d0 == e.d0);
+        println!(
+            "DEM d0 = {} sigma detachment: {}; D50 / d0 {}, DEM D50 / MD D50 {}",
+            e.d0,
+            validation::compare::summary::d50_words(e.detachment.as_ref()),
+            q.and_then(|q| q.d50_over_d0)
+                .map_or("-".to_string(), |x| format!("{x:.1}")),
+            q.and_then(|q| q.ratio)
+                .map_or("-".to_string(), |x| format!("{x:.2}"))
+        );
+    }
     for c in &r.cost_ratios {
         println!(
             "cost at D = {} sigma, d0 = {}: MD {:.1} s / DEM {:.1} s = {:.3} ({})",

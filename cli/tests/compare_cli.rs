@@ -44,7 +44,8 @@ max_rounds = 1
 measure = false
 "#;
 
-/// The model card and two MD sizes (8 and 10 sigma, half a D of sliding), one round.
+/// The model card and two MD sizes (8 and 10 sigma, half a D of sliding), one round; a scan of one
+/// more seed at the bracket's ends.
 const COMPARE: &str = r#"
 [model]
 cutoff = 1.3
@@ -61,6 +62,9 @@ frames = 4
 dump_file = "junction.dump"
 [[dem]]
 config = "dem.toml"
+[scan]
+seeds = [3]
+outside = false
 "#;
 
 struct Case {
@@ -114,8 +118,40 @@ fn a_comparison_writes_its_outputs_and_reruns_from_its_caches() {
     venv_or_fail();
     let c = case("compare-cache");
     let first = run(&c);
-    assert_eq!(md_lines(&first), (4, 0), "{}", text(&first.stderr));
     let v = json(&c.out.join("compare.json"));
+    // The scan ran seed 3 at each end the bisection found (no split sizes: one round), on both
+    // sides, and fitted every run of the side.
+    let ends = |b: &serde_json::Value| -> Vec<f64> {
+        b.as_array()
+            .unwrap()
+            .iter()
+            .filter_map(|x| x.as_f64())
+            .collect()
+    };
+    let md_scan = &v["md_detachment"];
+    let md_ends = ends(&v["md_bracket"]);
+    assert!(!md_ends.is_empty(), "{}", v["md_bracket"]);
+    assert_eq!(ends(&md_scan["sizes"]), md_ends);
+    let n_scan = md_scan["scan_runs"].as_u64().unwrap() as usize;
+    assert_eq!(n_scan, md_ends.len());
+    assert_eq!(md_scan["fit"]["runs"].as_u64(), Some(4 + n_scan as u64));
+    assert!(md_scan["trials"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|t| t["scan"].as_bool() == Some(true))
+        .all(|t| t["seed"].as_u64() == Some(3)));
+    assert_eq!(md_lines(&first), (4 + n_scan, 0), "{}", text(&first.stderr));
+    // A fit or a status, never a NaN (a NaN would not even be valid JSON).
+    assert!(md_scan["fit"]["status"].is_string());
+    let dem_scan = &v["dem"][0]["detachment"];
+    let dem_ends = ends(&v["dem"][0]["bracket"]);
+    assert_eq!(ends(&dem_scan["sizes"]), dem_ends);
+    assert_eq!(dem_scan["scan_runs"].as_u64(), Some(dem_ends.len() as u64));
+    assert_eq!(
+        dem_scan["fit"]["runs"].as_u64(),
+        Some(4 + dem_ends.len() as u64)
+    );
     // The fields checks read: md_bracket, dem[].bracket (sigma), dstar_theory (eq 22, sigma).
     assert_eq!(v["md_bracket"].as_array().unwrap().len(), 2);
     let dem = v["dem"].as_array().unwrap();
@@ -126,7 +162,7 @@ fn a_comparison_writes_its_outputs_and_reruns_from_its_caches() {
     // The card's d* of eq 22 at cut-off 1.3: 25.0 sigma (docs/md-bridge.md).
     let t = v["dstar_theory"].as_f64().unwrap();
     assert!((t - 25.0).abs() < 0.5, "{t}");
-    // Every run with its cost: 4 MD runs, 4 DEM runs.
+    // Every run of the bisection with its cost: 4 MD runs, 4 DEM runs.
     let runs = v["md"]["runs"].as_array().unwrap();
     assert_eq!(runs.len(), 4);
     assert!(runs
@@ -135,11 +171,13 @@ fn a_comparison_writes_its_outputs_and_reruns_from_its_caches() {
     assert_eq!(dem[0]["runs"].as_array().unwrap().len(), 4);
     assert_eq!(v["properties"].as_array().unwrap().len(), 6);
     let svg = std::fs::read_to_string(c.out.join("compare.svg")).unwrap();
-    assert!(svg.starts_with("<svg") && svg.contains("MD (LAMMPS), seed 2"));
-    assert_eq!(
-        &std::fs::read(c.out.join("compare.png")).unwrap()[1..4],
-        b"PNG"
-    );
+    assert!(svg.starts_with("<svg") && svg.contains("P(wear particle)"));
+    assert!(svg.contains("MD (LAMMPS): ") && svg.contains("DEM d0 = "));
+    let map = std::fs::read_to_string(c.out.join("outcomes.svg")).unwrap();
+    assert!(map.starts_with("<svg") && map.contains("MD (LAMMPS), seed 3"));
+    for f in ["compare.png", "outcomes.png"] {
+        assert_eq!(&std::fs::read(c.out.join(f)).unwrap()[1..4], b"PNG", "{f}");
+    }
     assert!(std::fs::read_to_string(c.out.join("compare.md"))
         .unwrap()
         .contains("| property | MD card | unit |"));
@@ -150,7 +188,12 @@ fn a_comparison_writes_its_outputs_and_reruns_from_its_caches() {
         .map(|f| std::fs::read(c.out.join(f)).unwrap())
         .collect();
     let second = run(&c);
-    assert_eq!(md_lines(&second), (0, 4), "{}", text(&second.stderr));
+    assert_eq!(
+        md_lines(&second),
+        (0, 4 + n_scan),
+        "{}",
+        text(&second.stderr)
+    );
     for (f, b) in ["compare.json", "compare.md", "compare.svg"]
         .iter()
         .zip(&before)
@@ -164,7 +207,7 @@ fn a_comparison_writes_its_outputs_and_reruns_from_its_caches() {
     std::fs::remove_file(c.cache.join(lost).join("record.json")).unwrap();
     std::fs::remove_file(c.out.join("compare.json")).unwrap();
     let third = run(&c);
-    assert_eq!(md_lines(&third), (1, 3), "{}", text(&third.stderr));
+    assert_eq!(md_lines(&third), (1, 3 + n_scan), "{}", text(&third.stderr));
     let w = json(&c.out.join("compare.json"));
     let verdicts = |v: &serde_json::Value| -> Vec<(String, String)> {
         v["md"]["runs"]
@@ -177,6 +220,10 @@ fn a_comparison_writes_its_outputs_and_reruns_from_its_caches() {
     assert_eq!(verdicts(&v), verdicts(&w));
     assert_eq!(v["md_bracket"], w["md_bracket"]);
     assert_eq!(v["dem"][0]["bracket"], w["dem"][0]["bracket"]);
+    // The same fit (the rerun's wall time is its own).
+    for k in ["fit", "fractions", "sizes"] {
+        assert_eq!(v["md_detachment"][k], w["md_detachment"][k], "{k}");
+    }
 }
 
 #[test]
@@ -196,6 +243,24 @@ fn bad_compare_configs_exit_1_with_the_reason() {
             "max_round",
         ),
         (COMPARE.replace("dem.toml", "missing.toml"), "missing.toml"),
+        (
+            COMPARE.replace("seeds = [3]", "seeds = [2, 3]"),
+            "search seeds",
+        ),
+        (
+            COMPARE.replace("seeds = [3]", "seeds = []"),
+            "at least one seed",
+        ),
+        (
+            COMPARE.replace("seeds = [3]", "seeds = [3, 3]"),
+            "listed twice",
+        ),
+        (
+            COMPARE
+                .replace("[scan]\nseeds = [3]\noutside = false\n", "")
+                .replace("\"dem.toml\"", "\"dem.toml\"\nscan_seeds = [3]"),
+            "need a [scan] section",
+        ),
     ];
     for (toml, reason) in cases {
         std::fs::write(&c.cfg, toml).unwrap();

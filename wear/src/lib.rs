@@ -7,11 +7,14 @@
 //!   size d* (eq 22, after Aghababaei et al. 2016);
 //! - [`outcome`]: the verdict on a sheared junction (plastic smoothing or a detached, rolling wear
 //!   particle) from the junction members' frames, the same decision for MD atoms and DEM particles;
+//! - [`detachment`]: the detachment probability P(wear | D), its D50 by a maximum-likelihood
+//!   logistic fit in ln D, with a profile-likelihood interval;
 //! - [`dstar`]: the bisection on the junction size D between a plastic and a debris outcome, with
 //!   several seeds per D, that brackets d* from either side's runs;
 //! - [`tbl`]: the measures of a third-body layer under sliding (paper 004): velocity and density
 //!   profiles, the TBL's boundaries and thickness, rho_TBL from a Gaussian fit, the regime of a run.
 
+pub mod detachment;
 pub mod dstar;
 pub mod error;
 pub mod outcome;

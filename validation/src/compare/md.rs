@@ -185,7 +185,7 @@ pub fn search(
     })
 }
 
-fn run_one(j: &JunctionConfig, opts: &RunOptions) -> Result<(MdRun, bool)> {
+pub(crate) fn run_one(j: &JunctionConfig, opts: &RunOptions) -> Result<(MdRun, bool)> {
     let (rec, cached) = run_job(&Job::Junction(j.clone()), opts)?;
     let JobOutput::Junction(r) = &rec.output else {
         return Err(ValidationError::Report(format!(

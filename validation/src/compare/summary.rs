@@ -12,10 +12,13 @@ use std::path::Path;
 use dem::io::checkpoint::write_atomic;
 use md_bridge::model::ModelResult;
 use serde::{Deserialize, Serialize};
+use wear::detachment::FitStatus;
 use wear::Outcome;
 
 use super::md::{MdRun, MdSearch};
+use super::scan::Detachment;
 use crate::error::{Result, ValidationError};
+use crate::figures::detachment::{draw_detachment, ProbabilitySeries};
 use crate::figures::dstar::{draw_outcomes, OutcomeRow};
 use crate::wear::dstar::{DstarResult, Measured};
 
@@ -82,6 +85,9 @@ pub struct DemEntry {
     pub runs: Vec<DemRun>,
     /// Every run and relaxation of the search (s).
     pub cost_seconds: f64,
+    /// The scan's runs and the fit of P(wear | D) (sigma); None without `[scan]`.
+    #[serde(default)]
+    pub detachment: Option<Detachment>,
 }
 
 impl DemEntry {
@@ -116,8 +122,43 @@ impl DemEntry {
                 })
                 .collect(),
             cost_seconds: r.cost_seconds,
+            detachment: None,
         }
     }
+}
+
+/// A DEM discretisation's D50 against the MD one.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct D50Ratio {
+    pub d0: f64,
+    /// DEM D50 / MD D50 (None when either side has no D50).
+    pub ratio: Option<f64>,
+    /// [DEM lower / MD upper, DEM upper / MD lower] from the two intervals' ends: a conservative
+    /// range (the sides are independent), None where an end is open.
+    pub range: [Option<f64>; 2],
+    /// DEM D50 / d0: the size in particles (a d*-independent-of-d0 DEM keeps D50 fixed in sigma,
+    /// one that scales with d0 keeps this fixed).
+    pub d50_over_d0: Option<f64>,
+}
+
+/// The D50 ratios of every DEM discretisation with a fit against the MD fit.
+pub fn d50_ratios(md: Option<&Detachment>, dem: &[DemEntry]) -> Vec<D50Ratio> {
+    dem.iter()
+        .filter_map(|e| {
+            let f = &e.detachment.as_ref()?.fit;
+            let m = md.map(|m| &m.fit);
+            let div = |a: Option<f64>, b: Option<f64>| a.zip(b).map(|(a, b)| a / b);
+            Some(D50Ratio {
+                d0: e.d0,
+                ratio: div(f.d50, m.and_then(|m| m.d50)),
+                range: [
+                    div(f.interval[0], m.and_then(|m| m.interval[1])),
+                    div(f.interval[1], m.and_then(|m| m.interval[0])),
+                ],
+                d50_over_d0: f.d50.map(|d| d / e.d0),
+            })
+        })
+        .collect()
 }
 
 /// How one DEM discretisation's bracket stands against the MD one.
@@ -285,10 +326,22 @@ pub struct CompareResult {
     /// The model card as measured, and both materials side by side.
     pub card: ModelResult,
     pub properties: Vec<PropertyRow>,
+    /// The MD scan and its fit of P(wear | D) (None without `[scan]`); each DEM one is in `dem[i]`.
+    #[serde(default)]
+    pub md_detachment: Option<Detachment>,
+    /// Each DEM D50 against the MD D50.
+    #[serde(default)]
+    pub d50_ratios: Vec<D50Ratio>,
 }
 
 impl CompareResult {
-    pub fn new(card: &ModelResult, card_seconds: f64, md: MdSearch, dem: Vec<DemEntry>) -> Self {
+    pub fn new(
+        card: &ModelResult,
+        card_seconds: f64,
+        md: MdSearch,
+        md_detachment: Option<Detachment>,
+        dem: Vec<DemEntry>,
+    ) -> Self {
         let at =
             |v: Option<f64>| v.map_or(0, |d| md.runs.iter().filter(|r| r.diameter == d).count());
         let agreement = dem
@@ -330,6 +383,8 @@ impl CompareResult {
             md_cost_seconds: md.cost_seconds,
             dem_cost_seconds: dem.iter().map(|e| e.cost_seconds).collect(),
             properties: property_rows(card, &dem),
+            d50_ratios: d50_ratios(md_detachment.as_ref(), &dem),
+            md_detachment,
             card: card.clone(),
             md,
             dem,
@@ -383,6 +438,9 @@ pub fn markdown(r: &CompareResult) -> String {
             e.runs.len(),
             e.cost_seconds
         );
+    }
+    if r.md_detachment.is_some() || r.dem.iter().any(|e| e.detachment.is_some()) {
+        s.push_str(&detachment_markdown(r));
     }
     let _ = write!(s, "\n| property | MD card | unit |");
     for e in &r.dem {
@@ -444,38 +502,132 @@ pub fn markdown(r: &CompareResult) -> String {
     s
 }
 
-/// The outcome map: one row per seed and side, x = D / d*_theory.
-pub fn figure_rows(r: &CompareResult) -> Vec<OutcomeRow> {
-    let t = r.dstar_theory;
-    let mut rows = Vec::new();
-    for e in r.dem.iter().rev() {
-        let mut seeds: Vec<u64> = e.runs.iter().map(|m| m.seed).collect();
-        seeds.sort_unstable();
-        seeds.dedup();
-        for seed in seeds.into_iter().rev() {
-            rows.push(OutcomeRow {
-                label: format!("DEM d0 = {} sigma, seed {seed}", e.d0),
-                points: e
-                    .runs
-                    .iter()
-                    .filter(|m| m.seed == seed)
-                    .map(|m| (m.diameter / t, m.outcome))
-                    .collect(),
+/// The scan's table: per side the runs, D50 with its interval, the slope, D50 / d0 and the ratio to
+/// MD's D50, then the wear fraction at every size.
+fn detachment_markdown(r: &CompareResult) -> String {
+    let mut s = String::new();
+    let g = |v: Option<f64>, digits: usize| v.map_or("-".to_string(), |x| format!("{x:.digits$}"));
+    let _ = writeln!(
+        s,
+        "\nDetachment probability: P(wear | D) = 1 / (1 + exp(-k ln(D / D50))) fitted by maximum \
+         likelihood to every run of a side (search and scan); interval: profile likelihood (open: \
+         reaches a factor 2 beyond the sizes run).\n\n| side | d0 (sigma) | runs (scan) | scan seeds | \
+         D50 (sigma) | interval (sigma) | k | D50 / d0 | DEM D50 / MD D50 (range) | scan cost (s) |\n\
+         | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+    );
+    let row = |s: &mut String, side: &str, d0: String, d: &Detachment, ratio: String| {
+        let f = &d.fit;
+        let seeds: Vec<String> = d.seeds.iter().map(|x| x.to_string()).collect();
+        let _ = writeln!(
+            s,
+            "| {side} | {d0} | {} ({}) | {} | {} | ({}, {}) | {}{} | {} | {ratio} | {:.0} |",
+            f.runs,
+            d.scan_runs,
+            seeds.join(", "),
+            match f.d50 {
+                Some(x) => format!("{x:.2}"),
+                None => status_name(f.status).to_string(),
+            },
+            g(f.interval[0], 2),
+            g(f.interval[1], 2),
+            g(f.slope, 1),
+            if f.slope_at_bound { " (bound)" } else { "" },
+            match (f.d50, d0.parse::<f64>()) {
+                (Some(x), Ok(d0)) => format!("{:.1}", x / d0),
+                _ => "-".into(),
+            },
+            d.scan_seconds
+        );
+    };
+    if let Some(d) = &r.md_detachment {
+        row(&mut s, "MD", "atoms".into(), d, "1".into());
+    }
+    for e in &r.dem {
+        let Some(d) = &e.detachment else { continue };
+        let ratio = r
+            .d50_ratios
+            .iter()
+            .find(|q| q.d0 == e.d0)
+            .map_or("-".into(), |q| {
+                format!(
+                    "{} ({}-{})",
+                    g(q.ratio, 2),
+                    g(q.range[0], 2),
+                    g(q.range[1], 2)
+                )
             });
+        row(&mut s, "DEM", format!("{}", e.d0), d, ratio);
+    }
+    s.push_str("\nWear runs / runs at each size (sigma):\n\n");
+    let fr = |d: &Detachment| {
+        d.fractions
+            .iter()
+            .map(|f| format!("{}: {}/{}", f.diameter, f.wear, f.runs))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    if let Some(d) = &r.md_detachment {
+        let _ = writeln!(s, "- MD: {}", fr(d));
+    }
+    for e in &r.dem {
+        if let Some(d) = &e.detachment {
+            let _ = writeln!(s, "- DEM d0 = {}: {}", e.d0, fr(d));
         }
     }
-    for &seed in r.md.seeds.iter().rev() {
-        rows.push(OutcomeRow {
-            label: format!("MD (LAMMPS), seed {seed}"),
-            points: r
-                .md
-                .runs
+    s
+}
+
+/// The outcome map: one row per seed and side (the scan's seeds included), x = D / d*_theory.
+pub fn figure_rows(r: &CompareResult) -> Vec<OutcomeRow> {
+    let t = r.dstar_theory;
+    // Every run of a side: the scan's trials (which hold the search's runs too), else the search's.
+    let runs = |det: Option<&Detachment>, search: Vec<(f64, u64, Outcome)>| match det {
+        Some(d) => d
+            .trials
+            .iter()
+            .map(|x| (x.diameter, x.seed, x.outcome))
+            .collect(),
+        None => search,
+    };
+    let rows_of = |label: &dyn Fn(u64) -> String, all: Vec<(f64, u64, Outcome)>| {
+        let mut seeds: Vec<u64> = all.iter().map(|m| m.1).collect();
+        seeds.sort_unstable();
+        seeds.dedup();
+        seeds
+            .into_iter()
+            .rev()
+            .map(|seed| OutcomeRow {
+                label: label(seed),
+                points: all
+                    .iter()
+                    .filter(|m| m.1 == seed)
+                    .map(|m| (m.0 / t, m.2))
+                    .collect(),
+            })
+            .collect::<Vec<_>>()
+    };
+    let mut rows = Vec::new();
+    for e in r.dem.iter().rev() {
+        let all = runs(
+            e.detachment.as_ref(),
+            e.runs
                 .iter()
-                .filter(|m| m.seed == seed)
-                .map(|m| (m.diameter / t, m.outcome))
+                .map(|m| (m.diameter, m.seed, m.outcome))
                 .collect(),
-        });
+        );
+        rows.extend(rows_of(
+            &|seed| format!("DEM d0 = {} sigma, seed {seed}", e.d0),
+            all,
+        ));
     }
+    let all = runs(
+        r.md_detachment.as_ref(),
+        r.md.runs
+            .iter()
+            .map(|m| (m.diameter, m.seed, m.outcome))
+            .collect(),
+    );
+    rows.extend(rows_of(&|seed| format!("MD (LAMMPS), seed {seed}"), all));
     rows
 }
 
@@ -500,9 +652,18 @@ pub fn write_outputs(out: &Path, r: &CompareResult) -> Result<()> {
     let refs = vec![(format!("eq 22 from the MD card ({t:.1} sigma)"), 1.0)];
     let rows = figure_rows(r);
     let label = "junction width D / d* of eq 22";
+    let series = probability_series(r);
+    let p_label = format!("junction width D / d* of eq 22 ({t:.1} sigma)");
+    let p_refs = vec![("eq 22 from the MD card".to_string(), 1.0)];
     for ext in ["svg", "png"] {
-        draw_outcomes(
+        draw_detachment(
             &out.join(format!("compare.{ext}")),
+            &p_label,
+            &series,
+            &p_refs,
+        )?;
+        draw_outcomes(
+            &out.join(format!("outcomes.{ext}")),
             label,
             &rows,
             &brackets,
@@ -510,6 +671,97 @@ pub fn write_outputs(out: &Path, r: &CompareResult) -> Result<()> {
         )?;
     }
     Ok(())
+}
+
+/// What a fit says in a few words: "D50 = 24.1 sigma (21.9-26.3)", or why there is none.
+pub fn d50_words(d: Option<&Detachment>) -> String {
+    let Some(d) = d else {
+        return "no scan".into();
+    };
+    let f = &d.fit;
+    let end = |v: Option<f64>, open: &str| v.map_or(open.to_string(), |x| format!("{x:.1}"));
+    match (f.status, f.d50) {
+        (FitStatus::Fitted | FitStatus::Separated, Some(x)) => format!(
+            "D50 = {x:.1} sigma ({:.0} %: {}-{}){}",
+            100.0 * f.level,
+            end(f.interval[0], "open"),
+            end(f.interval[1], "open"),
+            if f.slope_at_bound {
+                ", slope at its bound"
+            } else {
+                ""
+            }
+        ),
+        (s, _) => format!("no D50 ({})", status_name(s)),
+    }
+}
+
+fn status_name(s: FitStatus) -> &'static str {
+    match s {
+        FitStatus::Fitted => "fitted",
+        FitStatus::Separated => "separated outcomes",
+        FitStatus::NoRuns => "no runs",
+        FitStatus::AllPlastic => "every run plastic: above the sizes run",
+        FitStatus::AllWear => "every run detached: below the sizes run",
+        FitStatus::NoRise => "the wear fraction does not rise with D",
+    }
+}
+
+/// The figure's series: MD, then each DEM d0, x = D / d*_theory.
+pub fn probability_series(r: &CompareResult) -> Vec<ProbabilitySeries> {
+    let t = r.dstar_theory;
+    let one = |label: String, runs: Vec<(f64, Outcome)>, det: Option<&Detachment>, b: &Span| {
+        let fractions = match det {
+            Some(d) => d
+                .fractions
+                .iter()
+                .map(|f| (f.diameter / t, f.runs, f.wear))
+                .collect(),
+            None => {
+                let mut v: Vec<(f64, usize, usize)> = Vec::new();
+                for (d, o) in runs {
+                    let w = usize::from(o == Outcome::WearParticle);
+                    match v.iter_mut().find(|e| e.0 == d / t) {
+                        Some(e) => {
+                            e.1 += 1;
+                            e.2 += w;
+                        }
+                        None => v.push((d / t, 1, w)),
+                    }
+                }
+                v
+            }
+        };
+        let fit = det.map(|d| &d.fit);
+        ProbabilitySeries {
+            label: format!(
+                "{label}: {}, bracket {}",
+                d50_words(det),
+                fmt_span(&[b[0], b[1]])
+            ),
+            fractions,
+            curve: fit.and_then(|f| Some((f.d50? / t, f.slope?))),
+            interval: fit.map_or([None, None], |f| {
+                [f.interval[0].map(|v| v / t), f.interval[1].map(|v| v / t)]
+            }),
+            bracket: [b[0].map(|v| v / t), b[1].map(|v| v / t)],
+        }
+    };
+    let mut v = vec![one(
+        "MD (LAMMPS)".into(),
+        r.md.runs.iter().map(|m| (m.diameter, m.outcome)).collect(),
+        r.md_detachment.as_ref(),
+        &r.md_bracket,
+    )];
+    for e in &r.dem {
+        v.push(one(
+            format!("DEM d0 = {} sigma", e.d0),
+            e.runs.iter().map(|m| (m.diameter, m.outcome)).collect(),
+            e.detachment.as_ref(),
+            &e.bracket,
+        ));
+    }
+    v
 }
 
 #[cfg(test)]
@@ -652,6 +904,7 @@ mod tests {
                 })
                 .collect(),
             cost_seconds: 1.0,
+            detachment: None,
         }
     }
 
@@ -675,7 +928,7 @@ mod tests {
             dem_of(&probes(27.0, [20.0, 40.0], 0.15), 2.0),
             dem_of(&probes(27.0, [20.0, 40.0], 0.15), 1.0),
         ];
-        let r = CompareResult::new(&card(), 3.0, md, dem);
+        let r = CompareResult::new(&card(), 3.0, md, None, dem);
         let [l, u] = r.md_bracket;
         assert!(
             l.unwrap() < 27.0 && 27.0 <= u.unwrap(),
@@ -694,7 +947,7 @@ mod tests {
         // Different thresholds: no overlap, the centre ratio says by how much.
         let md = md_of(&probes(27.0, [35.0, 50.0], 0.2));
         let dem = vec![dem_of(&probes(60.0, [20.0, 40.0], 0.15), 2.0)];
-        let r = CompareResult::new(&card(), 3.0, md, dem);
+        let r = CompareResult::new(&card(), 3.0, md, None, dem);
         let a = &r.agreement[0];
         assert_eq!(a.overlap, Some(false));
         let c = a.centre_ratio.unwrap();
@@ -726,7 +979,7 @@ mod tests {
     fn the_json_holds_what_checks_read_and_the_markdown_both_materials() {
         let md = md_of(&probes(27.0, [35.0, 50.0], 0.2));
         let dem = vec![dem_of(&probes(27.0, [20.0, 40.0], 0.15), 2.0)];
-        let r = CompareResult::new(&card(), 3.0, md, dem);
+        let r = CompareResult::new(&card(), 3.0, md, None, dem);
         let v = serde_json::to_value(&r).unwrap();
         let b = v["md_bracket"].as_array().unwrap();
         assert_eq!(b.len(), 2);
@@ -753,5 +1006,87 @@ mod tests {
         assert!(rows
             .iter()
             .all(|row| row.points.iter().all(|p| p.0 > 0.1 && p.0 < 4.0)));
+    }
+
+    #[test]
+    fn d50_ratios_divide_the_fits_and_the_markdown_and_json_carry_them() {
+        use super::super::scan::Trial;
+        use wear::detachment::FitSettings;
+        // Each side's trials: plastic below its threshold, wear above, two split sizes between.
+        let trials = |lo: f64, hi: f64| -> Vec<Trial> {
+            let mut v = Vec::new();
+            for (k, d) in [0.6, 0.8, 0.9, 1.1, 1.2, 1.4].iter().enumerate() {
+                for seed in 1..=8u64 {
+                    // Wear fraction rises 0, 0, 3/8, 5/8, 1, 1 with size.
+                    let wear = match k {
+                        0 | 1 => false,
+                        2 => seed <= 3,
+                        3 => seed <= 5,
+                        _ => true,
+                    };
+                    v.push(Trial {
+                        diameter: d * (lo + hi) / 2.0,
+                        seed,
+                        outcome: if wear {
+                            Outcome::WearParticle
+                        } else {
+                            Outcome::PlasticSmoothing
+                        },
+                        scan: seed > 2,
+                        seconds: 1.0,
+                    });
+                }
+            }
+            v
+        };
+        let det =
+            |t: Vec<Trial>| Detachment::new(vec![], vec![3], t, &FitSettings::default()).unwrap();
+        let md = md_of(&probes(27.0, [35.0, 50.0], 0.2));
+        let mut e = dem_of(&probes(54.0, [20.0, 40.0], 0.15), 2.0);
+        e.detachment = Some(det(trials(50.0, 58.0)));
+        let r = CompareResult::new(&card(), 3.0, md, Some(det(trials(25.0, 29.0))), vec![e]);
+        let (m, d) = (
+            r.md_detachment.as_ref().unwrap().fit.clone(),
+            r.dem[0].detachment.as_ref().unwrap().fit.clone(),
+        );
+        // Same shape at twice the size: D50 twice, the same slope, ratio 2.
+        let q = &r.d50_ratios[0];
+        assert!((d.d50.unwrap() / m.d50.unwrap() - 2.0).abs() < 1e-6);
+        assert!((q.ratio.unwrap() - 2.0).abs() < 1e-6, "{q:?}");
+        assert!((d.slope.unwrap() - m.slope.unwrap()).abs() < 1e-6 * m.slope.unwrap());
+        let (lo, hi) = (q.range[0].unwrap(), q.range[1].unwrap());
+        assert!(lo < 2.0 && 2.0 < hi, "{lo} {hi}");
+        assert_eq!(lo, d.interval[0].unwrap() / m.interval[1].unwrap());
+        assert!((q.d50_over_d0.unwrap() - d.d50.unwrap() / 2.0).abs() < 1e-12);
+        let v = serde_json::to_value(&r).unwrap();
+        assert!(v["md_detachment"]["fit"]["d50"].as_f64().unwrap() > 25.0);
+        assert_eq!(v["dem"][0]["detachment"]["fit"]["runs"].as_u64(), Some(48));
+        let text = markdown(&r);
+        assert!(text.contains("Detachment probability"), "{text}");
+        assert!(text.contains("| MD | atoms | 48 (36) |"), "{text}");
+        assert!(text.contains("- DEM d0 = 2: "), "{text}");
+        // The figure's series: MD first, a curve through D50 on each side.
+        let p = probability_series(&r);
+        assert_eq!(p.len(), 2);
+        assert!(p
+            .iter()
+            .all(|s| s.curve.is_some() && s.fractions.len() == 6));
+        assert!(
+            p[0].label.starts_with("MD (LAMMPS): D50 = "),
+            "{}",
+            p[0].label
+        );
+        // Without a scan: no ratio, the words say so.
+        let md = md_of(&probes(27.0, [35.0, 50.0], 0.2));
+        let r = CompareResult::new(
+            &card(),
+            3.0,
+            md,
+            None,
+            vec![dem_of(&probes(54.0, [20.0, 40.0], 0.15), 2.0)],
+        );
+        assert!(r.d50_ratios.is_empty());
+        assert_eq!(d50_words(None), "no scan");
+        assert!(!markdown(&r).contains("Detachment probability"));
     }
 }

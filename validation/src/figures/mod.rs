@@ -3,6 +3,7 @@
 
 pub mod calibration;
 pub(crate) mod chart;
+pub mod detachment;
 pub mod dstar;
 pub mod junction;
 pub mod md;

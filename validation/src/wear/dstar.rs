@@ -245,16 +245,9 @@ pub fn search(
     let settings = file.settings()?;
     std::fs::create_dir_all(out).map_err(|e| ValidationError::io(out, e))?;
     let samples = JobCache::new(out.join("samples"));
-    let runs = JobCache::new(out.join("runs"));
     let model = &material.model;
     let base = &file.junction;
     let seeds = &file.search.seeds;
-    // Jobs side by side run single-threaded; one at a time, a job takes the threads asked for.
-    let job_par = if how.at_once > 1 {
-        Parallelism::Sequential
-    } else {
-        par
-    };
     // The base box of the first seed carries the measurement of the material's properties.
     let measure_box = JunctionConfig {
         seed: seeds[0],
@@ -268,57 +261,19 @@ pub fn search(
         match next_step(&settings, &probes, rounds)? {
             Step::Done { converged, reason } => break (converged, reason),
             Step::Probe(sizes) => {
-                let jobs: Vec<RunJob> = sizes
-                    .iter()
-                    .flat_map(|&d| {
-                        seeds.iter().map(move |&seed| RunJob {
-                            junction: file.run_config(d, seed),
-                            model,
-                        })
-                    })
-                    .collect();
                 tracing::info!(
                     round = rounds + 1,
                     ?sizes,
-                    runs = jobs.len(),
+                    runs = sizes.len() * seeds.len(),
                     "d* search round"
                 );
-                // The relaxed boxes first, each once, so that no two runs relax the same box at once.
-                let mut box_jobs: Vec<SampleJob> = Vec::new();
-                for j in &jobs {
-                    let b = SampleJob::new(&j.junction, model);
-                    if !box_jobs.contains(&b) {
-                        box_jobs.push(b);
-                    }
-                }
-                let records = run_jobs(&samples, &box_jobs, how, |job, dir| {
-                    job.relax_into(dir, job_par)
-                })?;
-                if records.iter().any(|r| r.is_none()) {
-                    return Err(shard_done(out));
-                }
-                box_seconds += records.iter().flatten().map(|r| r.seconds).sum::<f64>();
-                let results = run_jobs(&runs, &jobs, how, |job, dir| {
-                    run_junction(
-                        &job.junction,
-                        material,
-                        &samples,
-                        dir,
-                        job_par,
-                        &mut |_, _| {},
-                    )
-                })?;
-                if results.iter().any(|r| r.is_none()) {
-                    return Err(shard_done(out));
-                }
-                for (d, chunk) in sizes.iter().zip(results.chunks(seeds.len())) {
-                    let outcomes = chunk.iter().flatten().map(|s| s.outcome).collect();
+                let batch = run_sizes(file, material, out, &sizes, seeds, how, par)?;
+                box_seconds += batch.box_seconds;
+                for (d, chunk) in sizes.iter().zip(batch.runs.chunks(seeds.len())) {
+                    let outcomes = chunk.iter().map(|s| s.0.outcome).collect();
                     probes.push(Probe { size: *d, outcomes });
                 }
-                for (job, r) in jobs.iter().zip(results) {
-                    let key = JobCache::key(job)?;
-                    summaries.push((r.expect("checked above"), format!("runs/{key}")));
-                }
+                summaries.extend(batch.runs);
                 rounds += 1;
             }
         }
@@ -378,6 +333,84 @@ pub fn search(
         write_outputs(out, &result)?;
     }
     Ok(result)
+}
+
+/// The runs of one batch (every size with every seed, size-major), each with its folder relative to
+/// the search's output directory, and the relaxation time of the boxes it had to relax.
+#[derive(Debug)]
+pub struct Batch {
+    pub runs: Vec<(JunctionSummary, String)>,
+    pub box_seconds: f64,
+}
+
+/// Runs (or reads from the search's job cache in `out`) every size of `sizes` with every seed of
+/// `seeds`: the jobs a search round runs, so that runs added later (more seeds at the sizes around
+/// the transition) share the cache with the search's own.
+pub fn run_sizes(
+    file: &DstarFile,
+    material: &ResolvedMaterial,
+    out: &Path,
+    sizes: &[f64],
+    seeds: &[u64],
+    how: &RunJobs,
+    par: Parallelism,
+) -> Result<Batch> {
+    std::fs::create_dir_all(out).map_err(|e| ValidationError::io(out, e))?;
+    let samples = JobCache::new(out.join("samples"));
+    let runs = JobCache::new(out.join("runs"));
+    let model = &material.model;
+    // Jobs side by side run single-threaded; one at a time, a job takes the threads asked for.
+    let job_par = if how.at_once > 1 {
+        Parallelism::Sequential
+    } else {
+        par
+    };
+    let jobs: Vec<RunJob> = sizes
+        .iter()
+        .flat_map(|&d| {
+            seeds.iter().map(move |&seed| RunJob {
+                junction: file.run_config(d, seed),
+                model,
+            })
+        })
+        .collect();
+    // The relaxed boxes first, each once, so that no two runs relax the same box at once.
+    let mut box_jobs: Vec<SampleJob> = Vec::new();
+    for j in &jobs {
+        let b = SampleJob::new(&j.junction, model);
+        if !box_jobs.contains(&b) {
+            box_jobs.push(b);
+        }
+    }
+    let records = run_jobs(&samples, &box_jobs, how, |job, dir| {
+        job.relax_into(dir, job_par)
+    })?;
+    if records.iter().any(|r| r.is_none()) {
+        return Err(shard_done(out));
+    }
+    let box_seconds = records.iter().flatten().map(|r| r.seconds).sum::<f64>();
+    let results = run_jobs(&runs, &jobs, how, |job, dir| {
+        run_junction(
+            &job.junction,
+            material,
+            &samples,
+            dir,
+            job_par,
+            &mut |_, _| {},
+        )
+    })?;
+    if results.iter().any(|r| r.is_none()) {
+        return Err(shard_done(out));
+    }
+    let mut batch = Vec::new();
+    for (job, r) in jobs.iter().zip(results) {
+        let key = JobCache::key(job)?;
+        batch.push((r.expect("checked above"), format!("runs/{key}")));
+    }
+    Ok(Batch {
+        runs: batch,
+        box_seconds,
+    })
 }
 
 /// Patch tests of the material on the relaxed box of `cfg` (cached as a job in `out/measured`).

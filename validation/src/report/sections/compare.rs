@@ -7,7 +7,7 @@
 use serde::{Deserialize, Serialize};
 use wear::Outcome;
 
-use crate::compare::summary::{centre, CompareResult, Span};
+use crate::compare::summary::{centre, d50_words, probability_series, CompareResult, Span};
 use crate::compare::{compare, CompareFile, CompareRun};
 use crate::report::claim::sig;
 use crate::report::html::esc;
@@ -42,7 +42,10 @@ fn run(ctx: &Context) -> Result<SectionOutput> {
         reason: e.to_string(),
     })?;
     if ctx.profile == Profile::Quick {
+        // The quick profile keeps to the MD bisection (~3 min); the scan's extra seeds (another
+        // ~3 min of MD) and the DEM searches run in the paper profile.
         file.dem.clear();
+        file.scan = None;
     }
     let base = repo.join("configs");
     let case = Case {
@@ -142,6 +145,49 @@ fn claims(r: &CompareResult) -> Vec<Claim> {
                 show(&e.bracket),
                 e.reason,
                 a.overlap.map_or("unknown".into(), |o| o.to_string())
+            )),
+        );
+    }
+    if let Some(d) = &r.md_detachment {
+        c.push(
+            Claim::new(
+                "000",
+                "eq 22",
+                "MD D50, the size where half the junctions detach (sigma), against d* of eq 22",
+                r.dstar_theory,
+                d.fit.d50.unwrap_or(f64::NAN),
+                Tolerance::Info,
+            )
+            .note(format!(
+                "{}; {} runs, {} of them the scan's (seeds {:?} at {:?} sigma)",
+                d50_words(Some(d)),
+                d.fit.runs,
+                d.scan_runs,
+                d.seeds,
+                d.sizes
+            )),
+        );
+    }
+    for (e, q) in r.dem.iter().filter_map(|e| {
+        let q = r.d50_ratios.iter().find(|q| q.d0 == e.d0)?;
+        Some((e, q))
+    }) {
+        let f = |v: Option<f64>| v.map_or("open".to_string(), |x| sig(x, 3));
+        c.push(
+            Claim::new(
+                "issue 17",
+                "acceptance",
+                format!("DEM D50 / MD D50, d0 = {} sigma", sig(e.d0, 3)),
+                1.0,
+                q.ratio.unwrap_or(f64::NAN),
+                Tolerance::Relative(0.25),
+            )
+            .note(format!(
+                "DEM {}; ratio range from the two intervals {}-{}; D50 / d0 = {}",
+                d50_words(e.detachment.as_ref()),
+                f(q.range[0]),
+                f(q.range[1]),
+                f(q.d50_over_d0)
             )),
         );
     }
@@ -258,12 +304,46 @@ fn figure(r: &CompareResult) -> Figure {
         );
         first += k;
     }
-    Figure::new(
+    let mut fig = Figure::new(
         "compare-outcomes",
         "issue 17 (paper 000 section 4, eq 22)",
-        "Junction outcomes of the 2D LJ model material (cut-off 1.3 sigma) from LAMMPS and from the DEM, against D over d* of eq 22 from the MD card; the brackets as dashed boxes.",
+        "Junction outcomes of the 2D LJ model material (cut-off 1.3 sigma) from LAMMPS and from the DEM, against D over d* of eq 22 from the MD card; the brackets as dashed boxes; with a scan, the wear fraction per size and the fitted P(wear | D).",
     )
-    .panel(p)
+    .panel(p);
+    if r.md_detachment.is_some() || r.dem.iter().any(|e| e.detachment.is_some()) {
+        let mut q = Panel::new(
+            "fraction of runs that detach, and the fitted P(wear | D)",
+            "junction width D / d* of eq 22 (-)",
+            "P(wear particle)",
+        )
+        .log_x();
+        for (s, name) in probability_series(r).into_iter().zip(
+            std::iter::once("MD".to_string())
+                .chain(r.dem.iter().map(|e| format!("DEM d0 {}", sig(e.d0, 3)))),
+        ) {
+            q = q.with(
+                format!("{name}: wear fraction"),
+                Kind::SimulationMarks,
+                s.fractions
+                    .iter()
+                    .map(|&(x, n, w)| (x, w as f64 / n as f64))
+                    .collect(),
+            );
+            if let Some((x50, k)) = s.curve {
+                let xs = s.fractions.iter().map(|f| f.0);
+                let (lo, hi) = xs.fold((f64::INFINITY, 0.0f64), |(a, b), x| (a.min(x), b.max(x)));
+                let pts = (0..=60)
+                    .map(|i| {
+                        let x = lo * (hi / lo).powf(i as f64 / 60.0);
+                        (x, 1.0 / (1.0 + (-k * (x / x50).ln()).exp()))
+                    })
+                    .collect();
+                q = q.with(format!("{name}: fitted P"), Kind::Simulation, pts);
+            }
+        }
+        fig = fig.panel(q);
+    }
+    fig
 }
 
 fn page(r: &CompareResult, profile: Profile) -> String {
