@@ -144,6 +144,30 @@ pub struct Detachment {
     /// Runs the scan added and their wall time (s).
     pub scan_runs: usize,
     pub scan_seconds: f64,
+    /// The bracket every run of the side gives by majority ([`majority_bracket`]).
+    #[serde(default)]
+    pub majority_bracket: Span,
+}
+
+/// The bracket all the runs of a side give by majority, with no fit: the upper bound is the smallest
+/// size from which every size run detaches in more than half its runs, the lower bound the largest
+/// smaller size that detaches in fewer than half (a size at exactly one half lies inside). The
+/// bisection's own bracket rests on two seeds per size; near d* two seeds agree by luck (a size that
+/// detaches 2 times in 8 can give two wear particles), and this one reads every seed. `None`: an
+/// open end (no size qualifies). `fractions` in increasing size.
+pub fn majority_bracket(fractions: &[Fraction]) -> Span {
+    let majority = |f: &Fraction| 2 * f.wear > f.runs;
+    let first_of_top = fractions
+        .iter()
+        .rposition(|f| !majority(f))
+        .map_or(0, |i| i + 1);
+    let upper = fractions.get(first_of_top).map(|f| f.diameter);
+    let lower = fractions[..first_of_top]
+        .iter()
+        .rev()
+        .find(|f| 2 * f.wear < f.runs)
+        .map(|f| f.diameter);
+    [lower, upper]
 }
 
 impl Detachment {
@@ -175,6 +199,7 @@ impl Detachment {
         }
         let scan: Vec<&Trial> = trials.iter().filter(|t| t.scan).collect();
         Ok(Detachment {
+            majority_bracket: majority_bracket(&fractions),
             sizes,
             seeds,
             fit: fit_d50(&points, fit)?,
@@ -304,5 +329,44 @@ mod tests {
         let d50 = d.fit.d50.unwrap();
         assert!(10.0 < d50 && d50 < 30.0, "{d50}");
         assert!(d.trials.windows(2).all(|w| w[0].diameter <= w[1].diameter));
+        assert_eq!(d.majority_bracket, [Some(10.0), Some(30.0)]);
+    }
+
+    fn fractions(v: &[(f64, usize, usize)]) -> Vec<Fraction> {
+        v.iter()
+            .map(|&(diameter, wear, runs)| Fraction {
+                diameter,
+                runs,
+                wear,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_majority_bracket_reads_every_seed() {
+        // The d0 = 1 sigma runs of the comparison: the bisection's (15, 16.7] came from two seeds
+        // that both detached at 16.7, a size that detaches 2 times in 8.
+        let d0_1 = fractions(&[
+            (13.3, 0, 2),
+            (15.0, 0, 8),
+            (16.7, 2, 8),
+            (20.0, 1, 8),
+            (28.3, 4, 6),
+            (40.0, 2, 2),
+            (60.0, 2, 2),
+        ]);
+        assert_eq!(majority_bracket(&d0_1), [Some(20.0), Some(28.3)]);
+        // A size at one half lies inside; a minority size above a majority one moves the upper
+        // bound above it.
+        let half = fractions(&[(30.0, 0, 8), (37.5, 4, 8), (45.0, 5, 8)]);
+        assert_eq!(majority_bracket(&half), [Some(30.0), Some(45.0)]);
+        let dip = fractions(&[(20.0, 0, 4), (24.0, 3, 4), (27.0, 1, 4), (30.0, 4, 4)]);
+        assert_eq!(majority_bracket(&dip), [Some(27.0), Some(30.0)]);
+        // Open ends.
+        let plastic = fractions(&[(20.0, 0, 2), (24.0, 1, 2)]);
+        assert_eq!(majority_bracket(&plastic), [Some(20.0), None]);
+        let wear = fractions(&[(20.0, 2, 2), (24.0, 2, 2)]);
+        assert_eq!(majority_bracket(&wear), [None, Some(20.0)]);
+        assert_eq!(majority_bracket(&[]), [None, None]);
     }
 }

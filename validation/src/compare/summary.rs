@@ -566,12 +566,17 @@ fn detachment_markdown(r: &CompareResult) -> String {
             .collect::<Vec<_>>()
             .join(", ")
     };
+    let majority = |d: &Detachment| {
+        let [lo, hi] = d.majority_bracket;
+        let end = |v: Option<f64>| v.map_or("open".to_string(), |x| format!("{x}"));
+        format!("; majority of every run: ({}, {}]", end(lo), end(hi))
+    };
     if let Some(d) = &r.md_detachment {
-        let _ = writeln!(s, "- MD: {}", fr(d));
+        let _ = writeln!(s, "- MD: {}{}", fr(d), majority(d));
     }
     for e in &r.dem {
         if let Some(d) = &e.detachment {
-            let _ = writeln!(s, "- DEM d0 = {}: {}", e.d0, fr(d));
+            let _ = writeln!(s, "- DEM d0 = {}: {}{}", e.d0, fr(d), majority(d));
         }
     }
     s

@@ -183,11 +183,18 @@ fn claims(r: &CompareResult) -> Vec<Claim> {
                 Tolerance::Relative(0.25),
             )
             .note(format!(
-                "DEM {}; ratio range from the two intervals {}-{}; D50 / d0 = {}",
+                "DEM {}; ratio range from the two intervals {}-{}; D50 / d0 = {}; majority of \
+                 every run: DEM {}, MD {} sigma",
                 d50_words(e.detachment.as_ref()),
                 f(q.range[0]),
                 f(q.range[1]),
-                f(q.d50_over_d0)
+                f(q.d50_over_d0),
+                e.detachment
+                    .as_ref()
+                    .map_or("-".into(), |d| show(&d.majority_bracket)),
+                r.md_detachment
+                    .as_ref()
+                    .map_or("-".into(), |d| show(&d.majority_bracket)),
             )),
         );
     }
