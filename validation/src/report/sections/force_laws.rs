@@ -89,12 +89,11 @@ fn params(m: &Material, ri: f64, rj: f64) -> PairParams {
     PairModel::cohesive(m.clone()).params(ri, rj, mi, mj)
 }
 
+/// Points (x, y) of one curve.
+type Curve = Vec<(f64, f64)>;
+
 /// The engine's normal force and eq 3's at `delta_N / delta_e` = each x, both over k_N delta_e.
-fn normal_curves(
-    p: &PairParams,
-    c: &Closed,
-    xs: impl Iterator<Item = f64>,
-) -> (Vec<(f64, f64)>, Vec<(f64, f64)>) {
+fn normal_curves(p: &PairParams, c: &Closed, xs: impl Iterator<Item = f64>) -> (Curve, Curve) {
     let scale = c.k_n * c.delta_e;
     xs.map(|x| {
         let dn = x * c.delta_e;
