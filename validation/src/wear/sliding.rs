@@ -181,16 +181,7 @@ pub fn run_strength_job(
     let cfg = &job.sliding;
     cfg.validate()?;
     std::fs::create_dir_all(dir).map_err(|e| ValidationError::io(dir, e))?;
-    let model = cfg.model()?;
-    let relax_progress = ProgressFile::new(dir.join("relax.progress.json"));
-    let sample = make_sample_resumable(
-        &cfg.recipe()?,
-        &model,
-        &cfg.relax,
-        par,
-        Some(&relax_progress),
-    )?;
-    progress::remove(&relax_progress.path)?;
+    let sample = relaxed_box(cfg, &cfg.model()?, dir, par)?;
     let m = measure_strength(&sample, cfg, &cfg.strength_tests, par, Some(dir))?;
     json(&dir.join("strength.json"), &m)?;
     let mut csv = String::from("test,strain,stress,sigma_yy\n");
@@ -267,6 +258,28 @@ pub fn run_sliding(
     run_sliding_with(cfg, &tau, out, par, report)
 }
 
+/// The run's box relaxed as in paper 000, resumable through `dir/relax.progress.json` (removed once
+/// done). The strength job and the run each relax the same recipe in their own job directory: the
+/// cache keys differ (the strength job's leaves out p_N and the distance), so neither can read the
+/// other's result.
+fn relaxed_box(
+    cfg: &SlidingConfig,
+    model: &dem::material::PairModel,
+    dir: &Path,
+    par: Parallelism,
+) -> Result<dem::sample::Sample> {
+    let relax_progress = ProgressFile::new(dir.join("relax.progress.json"));
+    let sample = make_sample_resumable(
+        &cfg.recipe()?,
+        model,
+        &cfg.relax,
+        par,
+        Some(&relax_progress),
+    )?;
+    progress::remove(&relax_progress.path)?;
+    Ok(sample)
+}
+
 /// [`run_sliding`] with the shear strength `tau` already found.
 pub fn run_sliding_with(
     cfg: &SlidingConfig,
@@ -295,15 +308,7 @@ pub fn run_sliding_with(
         );
     }
     let t = std::time::Instant::now();
-    let relax_progress = ProgressFile::new(out.join("relax.progress.json"));
-    let sample = make_sample_resumable(
-        &cfg.recipe()?,
-        &model,
-        &cfg.relax,
-        par,
-        Some(&relax_progress),
-    )?;
-    progress::remove(&relax_progress.path)?;
+    let sample = relaxed_box(cfg, &model, out, par)?;
     let relax_seconds = t.elapsed().as_secs_f64();
     let run_progress = ProgressFile::new(out.join("sliding.progress.json"));
     let dump = (cfg.dump_frames > 0).then(|| out.join("sliding.dump"));

@@ -25,8 +25,9 @@ use crate::sim::Parallelism;
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct StrengthTests {
-    /// Simple shear; default the paper-000 test stopped 0.05 strain past the peak (the peak of these
-    /// samples is a rounded maximum followed by a plateau; 0.05 is 50 records past it).
+    /// Simple shear; default the paper-000 test stopped 0.05 strain past the peak (50 records past
+    /// it; the box then flows in stick-slip at about 0.7 of the peak, docs/sliding.md: a larger
+    /// `post_peak_strain` measures that flow stress).
     pub shear: StrengthConfig,
     /// Tension; default the paper-000 test stopped 0.05 strain past the peak (no fracture energy).
     pub tensile: StrengthConfig,
