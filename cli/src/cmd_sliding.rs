@@ -46,9 +46,15 @@ pub fn run(args: SlidingArgs, threads: usize) -> Result<()> {
             &mut |step, total| bar.update(step, total),
         )?;
         bar.finish();
+        let flow = s.p_t_over_tau_flow.zip(s.tau_flow_over_sigma_m).map_or(
+            String::new(),
+            |(ratio, flow)| {
+                format!(", p_T / tau_flow = {ratio:.2} with tau_flow = {flow:.3} sigma_m")
+            },
+        );
         println!(
             "{}: rho_TBL = {:.3} rho_0, h_TBL = {:.3} H, p_T = {:.4e} E (p_T / tau_m = {:.2}, \
-             p_T / (tau_m rho_TBL) = {:.2}; tau_m = {:.3} sigma_m, {}) at p_N = {} E ({} particles, \
+             p_T / (tau_m rho_TBL) = {:.2}; tau_m = {:.3} sigma_m, {}{flow}) at p_N = {} E ({} particles, \
              {} steps, {:.1} s + {:.1} s relaxation)",
             s.regime.label(),
             s.rho_tbl,

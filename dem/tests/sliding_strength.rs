@@ -60,12 +60,13 @@ fn measure(sigma_m: f64) -> (MaterialStrength, f64) {
     )
     .unwrap();
     eprintln!(
-        "sigma_m = {sigma_m}: tau_m = {:.5} ({:.3} sigma_m, peak at {:.3}, {} steps), sigma_t = {:.5} \
-         ({:.3} sigma_m, peak at {:.3}, {} steps), {} particles",
+        "sigma_m = {sigma_m}: tau_m = {:.5} ({:.3} sigma_m, peak at {:.3}, {} steps), tau_flow = \
+         {:?}, sigma_t = {:.5} ({:.3} sigma_m, peak at {:.3}, {} steps), {} particles",
         s.tau_m,
         s.tau_over_sigma_m(),
         s.shear.strain_at_peak,
         s.shear.steps,
+        s.tau_flow,
         s.sigma_t,
         s.sigma_t / sigma_m,
         s.tensile.strain_at_peak,
@@ -93,6 +94,26 @@ fn strengths_grow_faster_than_sigma_m_and_tau_m_is_near_the_papers() {
         }
         // Without tangential forces the box is weaker in shear than in tension.
         assert!(s.tau_m < s.sigma_t, "{} vs {}", s.tau_m, s.sigma_t);
+        // The default shear test runs on past the peak: the box flows below its peak (stick-slip,
+        // measured 0.70 of the peak at L = 20 d0), but the sheared material still carries stress.
+        let f = s
+            .tau_flow
+            .expect("the default shear test measures the flow stress");
+        assert_eq!(f.from, s.shear.strain_at_peak + 0.15);
+        assert!(
+            f.to - f.from >= dem::scenario::sliding::MIN_FLOW_WINDOW,
+            "{f:?}"
+        );
+        assert!(
+            f.min <= f.mean && f.mean <= f.max && f.max <= s.tau_m,
+            "{f:?}"
+        );
+        assert!(
+            f.mean > 0.4 * s.tau_m && f.mean < 0.95 * s.tau_m,
+            "flow {} vs peak {}",
+            f.mean,
+            s.tau_m
+        );
     }
     // The cause: more interacting partners at the larger sigma_m (longer attraction range) ...
     assert!(zb > za + 1.0, "partners {za} at 0.1 E, {zb} at 0.2 E");

@@ -222,27 +222,37 @@ fn the_sliding_section_reports_the_trends_of_fig_6_from_its_runs() {
         let ratio = y(panel, series, hi) / y(panel, series, lo);
         assert_eq!(ratio.to_bits(), c.measured.to_bits(), "{c:?}");
     }
-    // One p_T row per run, each a finite ratio against the measured tau_m; one measured tau_m per
-    // sigma_m of the grid (0.1, 0.14, 0.2 E), each a positive fraction of sigma_m.
+    // Two p_T rows per run, each a finite ratio: one against the measured peak tau_m, one against
+    // the flow stress after it; one measured tau_m and one tau_flow per sigma_m of the grid (0.1,
+    // 0.14, 0.2 E), each a positive fraction of sigma_m, the flow below the peak.
     let section3 = claims.iter().filter(|c| c.item == "section 3");
-    let pt: Vec<_> = section3
-        .clone()
-        .filter(|c| c.quantity.starts_with("p_T"))
-        .collect();
-    assert_eq!(pt.len(), 5);
-    assert!(
-        pt.iter()
-            .all(|c| c.measured.is_finite() && c.measured > 0.0),
-        "{pt:?}"
-    );
-    let tau: Vec<_> = section3
-        .filter(|c| c.quantity.starts_with("tau_m"))
-        .collect();
-    assert_eq!(tau.len(), 3);
-    assert!(
-        tau.iter().all(|c| c.measured > 0.0 && c.measured < 1.0),
-        "{tau:?}"
-    );
+    for (what, n) in [("tau_m measured", 5), ("flow stress", 5)] {
+        let pt: Vec<_> = section3
+            .clone()
+            .filter(|c| c.quantity.starts_with("p_T") && c.quantity.contains(what))
+            .collect();
+        assert_eq!(pt.len(), n, "{what}");
+        assert!(
+            pt.iter()
+                .all(|c| c.measured.is_finite() && c.measured > 0.0),
+            "{pt:?}"
+        );
+    }
+    let tau = |name: &str| -> Vec<f64> {
+        section3
+            .clone()
+            .filter(|c| c.quantity.starts_with(name))
+            .map(|c| c.measured)
+            .collect()
+    };
+    let (peak, flow) = (tau("tau_m"), tau("tau_flow"));
+    assert_eq!((peak.len(), flow.len()), (3, 3));
+    for (p, f) in peak.iter().zip(&flow) {
+        assert!(
+            *p > 0.0 && *p < 1.0 && *f > 0.0 && f < p,
+            "{peak:?} {flow:?}"
+        );
+    }
     let html = std::fs::read_to_string(&w.html).unwrap();
     assert_eq!(html.matches("src=\"data:image/png;base64,").count(), 3);
     let again = run(&options(&out, &only), &Silent).unwrap();

@@ -199,8 +199,8 @@ pub fn draw_snapshot(path: &Path, r: &SlidingResult) -> Result<()> {
 }
 
 /// Draws the strength tests of a sliding material: the shear curve (sigma_xy, and sigma_yy that the
-/// constant wall separation builds up) and the tensile curve, over sigma_m, with the peaks and the
-/// paper's tau_m = 0.22 sigma_m.
+/// constant wall separation builds up) and the tensile curve, over sigma_m, with the peaks, the flow
+/// stress over its window and the paper's tau_m = 0.22 sigma_m.
 pub fn draw_strength(path: &Path, m: &MaterialStrength) -> Result<()> {
     ensure_font()?;
     let labels = [
@@ -208,6 +208,7 @@ pub fn draw_strength(path: &Path, m: &MaterialStrength) -> Result<()> {
         "sigma_yy in the shear test (tension positive)",
         "paper 004: tau_m = 0.22 sigma_m",
         "peak (tau_m, sigma_t)",
+        "flow stress tau_flow (mean of its window)",
     ];
     let (root, body) = keyed_figure(path, (1400, 560), &labels, 2, None)?;
     let halves = body.split_evenly((1, 2));
@@ -229,9 +230,22 @@ pub fn draw_strength(path: &Path, m: &MaterialStrength) -> Result<()> {
             2,
         ),
         (String::new(), peak(&m.shear), Mark::Dots, 3),
-    ];
+    ]
+    .into_iter()
+    .chain(m.tau_flow.map(|f| {
+        (
+            String::new(),
+            vec![(f.from, f.mean / s), (f.to, f.mean / s)],
+            Mark::Line,
+            4,
+        )
+    }))
+    .collect();
+    let flow = m
+        .tau_flow
+        .map_or(String::new(), |f| format!(", tau_flow = {:.3}", f.mean / s));
     let title = format!(
-        "simple shear: tau_m = {:.3} sigma_m ({} particles)",
+        "shear: tau_m = {:.3}{flow} sigma_m ({} particles)",
         m.tau_over_sigma_m(),
         m.particles
     );

@@ -38,7 +38,8 @@ use crate::error::{Result, ValidationError};
 use crate::figures::sliding::{draw_h_tbl, draw_profiles, draw_snapshot, draw_strength};
 
 /// Bumped when the strength tests' code changes what they give (retires cached measurements).
-const STRENGTH_VERSION: u32 = 1;
+// 2: the shear test runs on past the peak and the output carries the flow stress.
+const STRENGTH_VERSION: u32 = 2;
 
 /// One point of a grid: the settings that differ from the file's `[sliding]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -109,6 +110,15 @@ pub struct SlidingSummary {
     pub sigma_t: Option<f64>,
     pub p_t_over_tau_m: f64,
     pub p_t_over_tau_rho: f64,
+    /// The flow stress after the shear peak over E, tau_flow / sigma_m and p_T / tau_flow (none when
+    /// tau_m was given or the shear test stopped too soon after its peak; `dem::scenario::sliding::
+    /// flow_stress`): the steady layer is sheared, re-bonded material, which flows at this stress.
+    #[serde(default)]
+    pub tau_flow: Option<f64>,
+    #[serde(default)]
+    pub tau_flow_over_sigma_m: Option<f64>,
+    #[serde(default)]
+    pub p_t_over_tau_flow: Option<f64>,
     pub strength: f64,
     pub surface_energy: f64,
     pub d_star: f64,
@@ -129,6 +139,10 @@ pub struct ShearStrength {
     /// tau_m and, when measured, sigma_t (engine units).
     pub tau_m: f64,
     pub sigma_t: Option<f64>,
+    /// The flow stress after the shear peak (engine units), when measured (none when given, or when
+    /// the shear test stopped too soon after its peak).
+    #[serde(default)]
+    pub tau_flow: Option<f64>,
     /// How it was found, in one line.
     pub how: String,
 }
@@ -138,6 +152,7 @@ impl ShearStrength {
         cfg.given_shear_strength().map(|tau_m| ShearStrength {
             tau_m,
             sigma_t: None,
+            tau_flow: None,
             how: format!(
                 "given: shear_strength_over_strength = {} (not measured)",
                 cfg.shear_strength_over_strength.unwrap_or_default()
@@ -145,10 +160,12 @@ impl ShearStrength {
         })
     }
 
-    fn measured(m: &MaterialStrength) -> Self {
+    /// The strengths a strength job measured.
+    pub fn measured(m: &MaterialStrength) -> Self {
         ShearStrength {
             tau_m: m.tau_m,
             sigma_t: Some(m.sigma_t),
+            tau_flow: m.tau_flow.map(|f| f.mean),
             how: m.how.clone(),
         }
     }
@@ -334,6 +351,9 @@ pub fn run_sliding_with(
         sigma_t: tau.sigma_t.map(|s| s / cfg.young_modulus),
         p_t_over_tau_m: r.p_t / r.tau_m,
         p_t_over_tau_rho: r.p_t / (r.tau_m * r.rho_tbl),
+        tau_flow: tau.tau_flow.map(|t| t / cfg.young_modulus),
+        tau_flow_over_sigma_m: tau.tau_flow.map(|t| t / cfg.material.strength),
+        p_t_over_tau_flow: tau.tau_flow.map(|t| r.p_t / t),
         strength: cfg.material.strength,
         surface_energy: cfg.surface_energy()?,
         d_star: r.d_star,
@@ -368,21 +388,22 @@ pub fn run_grid(
             .expect("a run of the list");
         let tau = taus[k].as_ref().ok_or_else(|| {
             ValidationError::Dem(dem::DemError::InvalidConfig(
-                "sliding grid: this shard's run needs a strength job that another shard has not                  finished; rerun once it has"
+                "sliding grid: this shard's run needs a strength job that another shard has not \
+                 finished; rerun once it has"
                     .into(),
             ))
         })?;
         run_sliding_with(cfg, tau, dir, Parallelism::Sequential, &mut |_, _| {})
     })?;
     let mut csv = String::from(
-        "p_n,strength,d_star,rho_tbl,h_tbl,p_t,tau_m,p_t_over_tau_m,p_t_over_tau_rho,regime,particles,run_seconds,key\n",
+        "p_n,strength,d_star,rho_tbl,h_tbl,p_t,tau_m,p_t_over_tau_m,p_t_over_tau_rho,tau_flow,p_t_over_tau_flow,regime,particles,run_seconds,key\n",
     );
     for (cfg, r) in runs.iter().zip(&results) {
         let key = JobCache::key(cfg)?;
         let line = match r {
             Some(s) => writeln!(
                 csv,
-                "{},{},{},{},{},{},{},{},{},{},{},{},{}",
+                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
                 s.p_n,
                 s.strength,
                 s.d_star,
@@ -392,6 +413,8 @@ pub fn run_grid(
                 s.tau_m,
                 s.p_t_over_tau_m,
                 s.p_t_over_tau_rho,
+                opt(s.tau_flow),
+                opt(s.p_t_over_tau_flow),
                 s.regime.label(),
                 s.particles,
                 s.run_seconds,
@@ -399,7 +422,7 @@ pub fn run_grid(
             ),
             None => writeln!(
                 csv,
-                "{},{},{},,,,,,,pending,,,{}",
+                "{},{},{},,,,,,,,,pending,,,{}",
                 cfg.pressure,
                 cfg.material.strength,
                 cfg.d_star()?,
@@ -410,6 +433,11 @@ pub fn run_grid(
     }
     write_atomic(&out.join("grid.csv"), csv.as_bytes())?;
     Ok(results)
+}
+
+/// An optional CSV field: empty when absent.
+fn opt(v: Option<f64>) -> String {
+    v.map_or(String::new(), |v| v.to_string())
 }
 
 #[derive(Serialize)]

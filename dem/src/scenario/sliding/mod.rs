@@ -41,7 +41,10 @@ use crate::sample::{RelaxConfig, SampleSpec};
 
 pub use geometry::{build, Geometry, BODY_BOTTOM_HALF, BODY_TOP_HALF};
 pub use run::{run, run_resumable, SlidingResult, WindowRecord, HEIGHT_BANDS};
-pub use strength::{measure_strength, MaterialStrength, MeasuredPeak, StrengthTests};
+pub use strength::{
+    flow_stress, measure_strength, FlowStress, MaterialStrength, MeasuredPeak, StrengthTests,
+    MIN_FLOW_WINDOW,
+};
 
 /// The material of paper 004: its strength and one of its surface energy or critical size.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -10,6 +10,14 @@
 //! the virial shear stress sigma_xy of the free particles. The tensile test (top wall pulled along y)
 //! gives the tensile strength sigma_t of the same box, the counterpart of sigma_m at the scale of the
 //! sample. Both stop a set strain past their peak: only the peaks are wanted, not the fracture energy.
+//!
+//! After its peak the sheared box flows in stick-slip (docs/sliding.md, measured at sigma_m = 0.1 E:
+//! sigma_xy saw-tooths between 0.5 and 0.9 of the peak). The steady sliding layer is such sheared,
+//! re-bonded material, so beside the peak the shear test gives the **flow stress** tau_flow: the mean
+//! sigma_xy over the strains from `flow_start` past the peak to the end of the test ([`flow_stress`]).
+//! Decision: the default shear test runs 0.6 strain past the peak and the window starts 0.15 past it
+//! (the post-peak drop is over by 0.1 past the peak in the measured curves; 0.45 strain of flow holds
+//! several stick-slip cycles, whose means over three sub-windows agreed within 3 %).
 
 use serde::{Deserialize, Serialize};
 
@@ -25,23 +33,29 @@ use crate::sim::Parallelism;
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct StrengthTests {
-    /// Simple shear; default the paper-000 test stopped 0.05 strain past the peak (50 records past
-    /// it; the box then flows in stick-slip at about 0.7 of the peak, docs/sliding.md: a larger
-    /// `post_peak_strain` measures that flow stress).
+    /// Simple shear; default the paper-000 test taken on to 0.6 strain past the peak (at most 0.8
+    /// strain in all) so that the flow stress after the peak is measured (module docs).
     pub shear: StrengthConfig,
     /// Tension; default the paper-000 test stopped 0.05 strain past the peak (no fracture energy).
     pub tensile: StrengthConfig,
+    /// Strain past the shear peak where the flow-stress window starts; default 0.15 (the post-peak
+    /// drop is over by 0.1 past the peak, see the module docs).
+    pub flow_start: f64,
 }
 
 impl Default for StrengthTests {
     fn default() -> Self {
-        let peak_only = |mode| StrengthConfig {
-            post_peak_strain: 0.05,
-            ..StrengthConfig::paper(mode)
-        };
         StrengthTests {
-            shear: peak_only(StrengthMode::Shear),
-            tensile: peak_only(StrengthMode::Tensile),
+            shear: StrengthConfig {
+                post_peak_strain: 0.6,
+                max_strain: 0.8,
+                ..StrengthConfig::paper(StrengthMode::Shear)
+            },
+            tensile: StrengthConfig {
+                post_peak_strain: 0.05,
+                ..StrengthConfig::paper(StrengthMode::Tensile)
+            },
+            flow_start: 0.15,
         }
     }
 }
@@ -74,6 +88,10 @@ pub struct MaterialStrength {
     pub particles: usize,
     pub shear: MeasuredPeak,
     pub tensile: MeasuredPeak,
+    /// Flow stress after the shear peak (engine units; module docs) and its strain window; none when
+    /// the test stopped before `flow_start` + [`MIN_FLOW_WINDOW`] past the peak.
+    #[serde(default)]
+    pub tau_flow: Option<FlowStress>,
     /// How it was measured, in one line (written in summaries).
     pub how: String,
 }
@@ -83,6 +101,50 @@ impl MaterialStrength {
     pub fn tau_over_sigma_m(&self) -> f64 {
         self.tau_m / self.sigma_m
     }
+}
+
+/// The mean stress of a flowing box over a strain window.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct FlowStress {
+    pub mean: f64,
+    /// Lowest and highest stress in the window (the stick-slip amplitude).
+    pub min: f64,
+    pub max: f64,
+    /// The strain window [from, to] and the records in it.
+    pub from: f64,
+    pub to: f64,
+    pub records: usize,
+}
+
+/// Shortest strain window a flow stress is averaged over: shorter holds one or two stick-slip
+/// cycles (measured period about 0.05-0.1 strain), whose phase then biases the mean.
+pub const MIN_FLOW_WINDOW: f64 = 0.2;
+
+/// Mean stress of `curve` ((strain, stress, ..) records) over the strains from `strain_at_peak +
+/// start` to the last record, or none if that window is shorter than [`MIN_FLOW_WINDOW`] or empty.
+pub fn flow_stress(
+    curve: &[(f64, f64, f64)],
+    strain_at_peak: f64,
+    start: f64,
+) -> Option<FlowStress> {
+    let from = strain_at_peak + start;
+    let to = curve.last()?.0;
+    let span = to - from;
+    if span.is_nan() || span < MIN_FLOW_WINDOW {
+        return None;
+    }
+    let window: Vec<f64> = curve.iter().filter(|p| p.0 >= from).map(|p| p.1).collect();
+    if window.is_empty() {
+        return None;
+    }
+    Some(FlowStress {
+        mean: window.iter().sum::<f64>() / window.len() as f64,
+        min: window.iter().copied().fold(f64::INFINITY, f64::min),
+        max: window.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        from,
+        to,
+        records: window.len(),
+    })
 }
 
 fn peak_of(mode: StrengthMode, r: &crate::scenario::patch::StrengthResult) -> MeasuredPeak {
@@ -142,7 +204,19 @@ pub fn measure_strength(
     for f in [pf_s, pf_t].iter().flatten() {
         crate::io::progress::remove(&f.path)?;
     }
+    if !(tests.flow_start >= 0.0 && tests.flow_start.is_finite()) {
+        return Err(DemError::InvalidConfig(format!(
+            "sliding strength tests: flow_start = {} must be a strain >= 0",
+            tests.flow_start
+        )));
+    }
     let s = &tests.shear;
+    let shear_peak = peak_of(StrengthMode::Shear, &shear);
+    let tau_flow = flow_stress(
+        &shear_peak.curve,
+        shear_peak.strain_at_peak,
+        tests.flow_start,
+    );
     let how = format!(
         "peak sigma_xy of the patch-test shear (paper 000 Fig. 4c) on the run's relaxed box ({} \
          particles): walls of {} interaction ranges normal to y, top wall moved along x at constant \
@@ -160,8 +234,9 @@ pub fn measure_strength(
         sigma_m: cfg.material.strength,
         young_modulus: cfg.young_modulus,
         particles: shear.particles,
-        shear: peak_of(StrengthMode::Shear, &shear),
+        shear: shear_peak,
         tensile: peak_of(StrengthMode::Tensile, &tensile),
+        tau_flow,
         how,
     })
 }
@@ -177,5 +252,49 @@ mod tests {
         assert_eq!(t.tensile.mode, StrengthMode::Tensile);
         assert_eq!(t.shear.strain_rate, 1e-5);
         assert_eq!(t.tensile.post_peak_strain, 0.05);
+        assert_eq!(t.shear.post_peak_strain, 0.6);
+        assert!(t.shear.max_strain >= t.shear.post_peak_strain + 0.15);
+    }
+
+    /// A synthetic curve: a linear rise to the peak at 0.15, then a saw-tooth of period 0.05 between
+    /// 0.5 and 0.9 of the peak (mean 0.7).
+    fn sawtooth(end: f64) -> Vec<(f64, f64, f64)> {
+        (0..=(end / 1e-3).round() as usize)
+            .map(|k| {
+                let e = k as f64 * 1e-3;
+                let s = if e <= 0.15 {
+                    e / 0.15
+                } else {
+                    let phase = ((e - 0.15) / 0.05).fract();
+                    0.9 - 0.4 * phase
+                };
+                (e, s, 0.0)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_flow_stress_is_the_mean_of_the_window_past_the_peak() {
+        let f = flow_stress(&sawtooth(0.8), 0.15, 0.15).expect("a 0.5 strain window");
+        assert!((f.mean - 0.7).abs() < 0.01, "{f:?}");
+        assert!(
+            (f.min - 0.5).abs() < 0.01 && (f.max - 0.9).abs() < 1e-12,
+            "{f:?}"
+        );
+        assert_eq!((f.from, f.to), (0.3, 0.8));
+        assert_eq!(f.records, 501);
+        // The rise and the peak are outside the window: a window from the start would be lower.
+        let all = flow_stress(&sawtooth(0.8), 0.0, 0.0).unwrap();
+        assert!(all.mean < f.mean);
+    }
+
+    #[test]
+    fn a_test_stopped_soon_after_the_peak_has_no_flow_stress() {
+        // 0.05 past the peak (the old default): no window at all.
+        assert_eq!(flow_stress(&sawtooth(0.2), 0.15, 0.15), None);
+        // A window of 0.19 < MIN_FLOW_WINDOW: too few cycles.
+        assert_eq!(flow_stress(&sawtooth(0.49), 0.15, 0.15), None);
+        assert!(flow_stress(&sawtooth(0.5), 0.15, 0.15).is_some());
+        assert_eq!(flow_stress(&[], 0.0, 0.0), None);
     }
 }

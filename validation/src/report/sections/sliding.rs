@@ -137,12 +137,7 @@ fn run(ctx: &Context) -> Result<SectionOutput> {
             .iter()
             .position(|j| *j == StrengthJob::of(c))
             .expect("every case has its strength job");
-        let m = &strengths[k].strength;
-        ShearStrength {
-            tau_m: m.tau_m,
-            sigma_t: Some(m.sigma_t),
-            how: m.how.clone(),
-        }
+        ShearStrength::measured(&strengths[k].strength)
     };
     let outs: Vec<RunOut> = ctx.jobs("sliding runs", &cases, |case, dir, par| {
         let tau = tau_of(&case.sliding);
@@ -240,6 +235,46 @@ fn claims(runs: &[&SlidingSummary]) -> Vec<Claim> {
             )),
         );
     }
+    // The same statements against the flow stress after the peak: the steady layer is sheared,
+    // re-bonded material, which flows at tau_flow rather than at the intact solid's peak (the paper
+    // does not say which of the two its "shear strength" is; both are reported).
+    for r in runs {
+        let Some(tau_flow) = r.tau_flow_over_sigma_m else {
+            continue;
+        };
+        let p_t_over_flow = r.p_t_over_tau_flow.unwrap_or(f64::NAN);
+        let (ratio, what) = match r.regime {
+            Regime::ShearBand => (p_t_over_flow, "p_T / tau_flow"),
+            Regime::Mixed | Regime::GrowingParticles => (
+                p_t_over_flow / r.rho_tbl,
+                "p_T / (tau_flow rho_TBL / rho_0)",
+            ),
+        };
+        let tolerance = if r.regime == Regime::GrowingParticles {
+            Tolerance::Info
+        } else {
+            Tolerance::Relative(NEAR)
+        };
+        c.push(
+            Claim::new(
+                "004",
+                "section 3",
+                format!(
+                    "{what} at p_N = {} E, sigma_m = {} E ({}; flow stress after the shear peak)",
+                    r.p_n,
+                    r.strength,
+                    r.regime.label()
+                ),
+                1.0,
+                ratio,
+                tolerance,
+            )
+            .note(format!(
+                "tau_flow = {tau_flow:.3} sigma_m (mean sigma_xy of the shear test from 0.15 strain                  past its peak to its end), p_T = {:.3e} E, rho_TBL / rho_0 = {:.3}; within 30 %",
+                r.p_t, r.rho_tbl,
+            )),
+        );
+    }
     // The paper's own tau_m, for comparison with ours.
     let mut seen: Vec<f64> = Vec::new();
     for r in runs {
@@ -267,6 +302,25 @@ fn claims(runs: &[&SlidingSummary]) -> Vec<Claim> {
                 ))
             )),
         );
+        if let Some(flow) = r.tau_flow_over_sigma_m {
+            c.push(
+                Claim::new(
+                    "004",
+                    "section 3",
+                    format!(
+                        "tau_flow / sigma_m of our material at sigma_m = {} E (paper's tau_m: about 0.22)",
+                        r.strength
+                    ),
+                    0.22,
+                    flow,
+                    Tolerance::Info,
+                )
+                .note(format!(
+                    "mean sigma_xy of the stick-slip flow after the shear peak ({:.2} of the peak)",
+                    flow / r.tau_m_over_sigma_m
+                )),
+            );
+        }
     }
     c
 }
@@ -338,16 +392,28 @@ fn page(outs: &[RunOut], strengths: &[StrengthOut], profile: Profile) -> String 
     h += "<p>tau_m is measured, not taken from the paper: the shear patch test (paper 000 Fig. 4c) \
           on each material's own relaxed box (the sliding run's recipe, law and seed, before the cut), \
           top wall moved along x at constant separation, strain rate 1e-5 per step; tau_m is the \
-          peak of sigma_xy, sigma_t the peak of the tensile test.</p>\n";
+          peak of sigma_xy, sigma_t the peak of the tensile test. After its peak the box flows in \
+          stick-slip; tau_flow is the mean sigma_xy from 0.15 strain past the peak to the end of the \
+          test (0.6 past the peak), with the saw-tooth's range beside it.</p>\n";
     h += "<table><tr><th>sigma_m (E)</th><th>tau_m / sigma_m</th><th>at shear strain</th>\
-          <th>sigma_t / sigma_m</th><th>particles</th><th>tests (s)</th></tr>\n";
+          <th>tau_flow / sigma_m (range)</th><th>sigma_t / sigma_m</th><th>particles</th>\
+          <th>tests (s)</th></tr>\n";
     for s in strengths {
         let m = &s.strength;
+        let flow = m.tau_flow.map_or("(test too short)".to_string(), |f| {
+            format!(
+                "{:.3} ({:.3}-{:.3})",
+                f.mean / m.sigma_m,
+                f.min / m.sigma_m,
+                f.max / m.sigma_m
+            )
+        });
         h += &format!(
-            "<tr><td>{}</td><td>{:.3}</td><td>{:.3}</td><td>{:.3}</td><td>{}</td><td>{:.0}</td></tr>\n",
+            "<tr><td>{}</td><td>{:.3}</td><td>{:.3}</td><td>{}</td><td>{:.3}</td><td>{}</td><td>{:.0}</td></tr>\n",
             m.sigma_m,
             m.tau_over_sigma_m(),
             m.shear.strain_at_peak,
+            esc(&flow),
             m.sigma_t / m.sigma_m,
             m.particles,
             m.shear.wall_seconds + m.tensile.wall_seconds
@@ -356,11 +422,11 @@ fn page(outs: &[RunOut], strengths: &[StrengthOut], profile: Profile) -> String 
     h += "</table>\n";
     h += "<table><tr><th>p_N (E)</th><th>sigma_m (E)</th><th>regime</th><th>rho_TBL / rho_0</th>\
           <th>h_TBL / H</th><th>p_T (E)</th><th>p_T / tau_m</th><th>p_T / (tau_m rho_TBL / rho_0)</th>\
-          <th>particles</th><th>run (s)</th></tr>\n";
+          <th>p_T / tau_flow</th><th>particles</th><th>run (s)</th></tr>\n";
     for o in outs {
         let r = &o.summary;
         h += &format!(
-            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{:.3}</td><td>{:.3}</td><td>{:.2e}</td><td>{:.2}</td><td>{:.2}</td><td>{}</td><td>{:.0}</td></tr>\n",
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{:.3}</td><td>{:.3}</td><td>{:.2e}</td><td>{:.2}</td><td>{:.2}</td><td>{}</td><td>{}</td><td>{:.0}</td></tr>\n",
             r.p_n,
             r.strength,
             esc(r.regime.label()),
@@ -369,6 +435,8 @@ fn page(outs: &[RunOut], strengths: &[StrengthOut], profile: Profile) -> String 
             r.p_t,
             r.p_t_over_tau_m,
             r.p_t_over_tau_rho,
+            r.p_t_over_tau_flow
+                .map_or("-".to_string(), |v| format!("{v:.2}")),
             r.particles,
             r.run_seconds
         );
