@@ -133,10 +133,8 @@ pub fn flow_stress(
     if span.is_nan() || span < MIN_FLOW_WINDOW {
         return None;
     }
+    // Not empty: the last record is at `to`, past `from`.
     let window: Vec<f64> = curve.iter().filter(|p| p.0 >= from).map(|p| p.1).collect();
-    if window.is_empty() {
-        return None;
-    }
     Some(FlowStress {
         mean: window.iter().sum::<f64>() / window.len() as f64,
         min: window.iter().copied().fold(f64::INFINITY, f64::min),

@@ -199,81 +199,43 @@ fn claims(runs: &[&SlidingSummary]) -> Vec<Claim> {
     // Paper 004 section 3: in the shear band the layer transmits about the material's shear
     // strength tau_m; in the mixed regime about tau_m rho_TBL / rho_0. tau_m is ours, measured.
     for r in runs {
-        let (ratio, what) = match r.regime {
-            Regime::ShearBand => (r.p_t_over_tau_m, "p_T / tau_m"),
-            Regime::Mixed => (r.p_t_over_tau_rho, "p_T / (tau_m rho_TBL / rho_0)"),
-            Regime::GrowingParticles => (r.p_t_over_tau_rho, "p_T / (tau_m rho_TBL / rho_0)"),
-        };
-        let tolerance = if r.regime == Regime::GrowingParticles {
-            // Lubricated: the paper gives no value to be near, only "as low as 0.001 E".
-            Tolerance::Info
-        } else {
-            Tolerance::Relative(NEAR)
-        };
-        c.push(
-            Claim::new(
-                "004",
-                "section 3",
-                format!(
-                    "{what} at p_N = {} E, sigma_m = {} E ({}; tau_m measured)",
-                    r.p_n,
-                    r.strength,
-                    r.regime.label()
-                ),
-                1.0,
-                ratio,
-                tolerance,
-            )
-            .note(format!(
-                "tau_m = {:.3} sigma_m (patch-test peak of this material's box), p_T = {:.3e} E, \
-                 rho_TBL / rho_0 = {:.3}; within 30 %: the paper's 'roughly equal' with one seed; \
-                 with the paper's tau_m = 0.22 sigma_m instead: {:.2}",
-                r.tau_m_over_sigma_m,
-                r.p_t,
-                r.rho_tbl,
-                ratio * r.tau_m_over_sigma_m / 0.22
-            )),
+        let note = format!(
+            "tau_m = {:.3} sigma_m (patch-test peak of this material's box), p_T = {:.3e} E, \
+             rho_TBL / rho_0 = {:.3}; within 30 %: the paper's 'roughly equal' with one seed; \
+             with the paper's tau_m = 0.22 sigma_m instead: {:.2}",
+            r.tau_m_over_sigma_m,
+            r.p_t,
+            r.rho_tbl,
+            section3_ratio(r, r.p_t_over_tau_m) * r.tau_m_over_sigma_m / 0.22
         );
+        c.push(section3_claim(
+            r,
+            "tau_m",
+            r.p_t_over_tau_m,
+            "tau_m measured",
+            note,
+        ));
     }
     // The same statements against the flow stress after the peak: the steady layer is sheared,
     // re-bonded material, which flows at tau_flow rather than at the intact solid's peak (the paper
     // does not say which of the two its "shear strength" is; both are reported).
     for r in runs {
-        let Some(tau_flow) = r.tau_flow_over_sigma_m else {
+        let (Some(tau_flow), Some(p_t_over_flow)) = (r.tau_flow_over_sigma_m, r.p_t_over_tau_flow)
+        else {
             continue;
         };
-        let p_t_over_flow = r.p_t_over_tau_flow.unwrap_or(f64::NAN);
-        let (ratio, what) = match r.regime {
-            Regime::ShearBand => (p_t_over_flow, "p_T / tau_flow"),
-            Regime::Mixed | Regime::GrowingParticles => (
-                p_t_over_flow / r.rho_tbl,
-                "p_T / (tau_flow rho_TBL / rho_0)",
-            ),
-        };
-        let tolerance = if r.regime == Regime::GrowingParticles {
-            Tolerance::Info
-        } else {
-            Tolerance::Relative(NEAR)
-        };
-        c.push(
-            Claim::new(
-                "004",
-                "section 3",
-                format!(
-                    "{what} at p_N = {} E, sigma_m = {} E ({}; flow stress after the shear peak)",
-                    r.p_n,
-                    r.strength,
-                    r.regime.label()
-                ),
-                1.0,
-                ratio,
-                tolerance,
-            )
-            .note(format!(
-                "tau_flow = {tau_flow:.3} sigma_m (mean sigma_xy of the shear test from 0.15 strain                  past its peak to its end), p_T = {:.3e} E, rho_TBL / rho_0 = {:.3}; within 30 %",
-                r.p_t, r.rho_tbl,
-            )),
+        let note = format!(
+            "tau_flow = {tau_flow:.3} sigma_m (mean sigma_xy of the shear test from 0.15 strain \
+             past its peak to its end), p_T = {:.3e} E, rho_TBL / rho_0 = {:.3}; within 30 %",
+            r.p_t, r.rho_tbl,
         );
+        c.push(section3_claim(
+            r,
+            "tau_flow",
+            p_t_over_flow,
+            "flow stress after the shear peak",
+            note,
+        ));
     }
     // The paper's own tau_m, for comparison with ours.
     let mut seen: Vec<f64> = Vec::new();
@@ -323,6 +285,50 @@ fn claims(runs: &[&SlidingSummary]) -> Vec<Claim> {
         }
     }
     c
+}
+
+/// The ratio paper 004 section 3 states for `r`'s regime, from p_T / tau (tau the peak or the flow
+/// stress): p_T / tau in a shear band, p_T / (tau rho_TBL / rho_0) otherwise.
+fn section3_ratio(r: &SlidingSummary, p_t_over_tau: f64) -> f64 {
+    match r.regime {
+        Regime::ShearBand => p_t_over_tau,
+        Regime::Mixed | Regime::GrowingParticles => p_t_over_tau / r.rho_tbl,
+    }
+}
+
+/// The section-3 claim of run `r` against the shear stress `tau` ("tau_m" or "tau_flow"; `how` says
+/// which measurement), with `p_t_over_tau` = p_T / tau.
+fn section3_claim(
+    r: &SlidingSummary,
+    tau: &str,
+    p_t_over_tau: f64,
+    how: &str,
+    note: String,
+) -> Claim {
+    let what = match r.regime {
+        Regime::ShearBand => format!("p_T / {tau}"),
+        Regime::Mixed | Regime::GrowingParticles => format!("p_T / ({tau} rho_TBL / rho_0)"),
+    };
+    let tolerance = if r.regime == Regime::GrowingParticles {
+        // Lubricated: the paper gives no value to be near, only "as low as 0.001 E".
+        Tolerance::Info
+    } else {
+        Tolerance::Relative(NEAR)
+    };
+    Claim::new(
+        "004",
+        "section 3",
+        format!(
+            "{what} at p_N = {} E, sigma_m = {} E ({}; {how})",
+            r.p_n,
+            r.strength,
+            r.regime.label()
+        ),
+        1.0,
+        section3_ratio(r, p_t_over_tau),
+        tolerance,
+    )
+    .note(note)
 }
 
 fn figure(runs: &[&SlidingSummary]) -> Figure {
