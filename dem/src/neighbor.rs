@@ -52,6 +52,11 @@ pub struct NeighborList {
     ref_lengths: Vec3,
     /// Number of builds so far.
     pub builds: u64,
+    /// Box lengths each particle has been wrapped by since the first build (LAMMPS's image flags):
+    /// `pos + wraps * L` is the continuous, unwrapped trajectory. Empty until the first build (and in
+    /// checkpoints written before it existed, whose particles then count from their next build).
+    #[serde(default)]
+    pub wraps: Vec<[i32; 3]>,
 }
 
 /// Per-pair interaction range, provided by the force model.
@@ -117,6 +122,12 @@ impl NeighborList {
             && self.row_start.windows(2).all(|w| w[0] <= w[1]);
         if !rows_ok {
             return Err("row starts not increasing from 0 to the pair count".into());
+        }
+        if !(self.wraps.is_empty() || self.wraps.len() == n) {
+            return Err(format!(
+                "{} wrap counters for {n} particles",
+                self.wraps.len()
+            ));
         }
         for i in 0..n {
             for p in self.row_start[i] as usize..self.row_start[i + 1] as usize {
@@ -215,6 +226,14 @@ impl NeighborList {
                     }
                     w[a] = k as i8;
                 }
+            }
+        }
+        if self.wraps.len() != n {
+            self.wraps = vec![[0; 3]; n];
+        }
+        for (total, w) in self.wraps.iter_mut().zip(&wraps) {
+            for a in 0..3 {
+                total[a] += i32::from(w[a]);
             }
         }
         let old_valid = self.row_start.len() == n + 1;

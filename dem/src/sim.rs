@@ -339,6 +339,18 @@ impl Simulation {
     pub fn neighbor_builds(&self) -> u64 {
         self.list.builds
     }
+    /// Position of particle `i` on its continuous trajectory: the stored position is wrapped into the
+    /// box at list builds, so a wall's travel or a displacement is read from this one.
+    pub fn unwrapped_position(&self, i: usize) -> Vec3 {
+        let x = self.particles.pos[i];
+        match self.list.wraps.get(i) {
+            Some(w) => {
+                let l = self.sim_box.lengths();
+                x + Vec3::new(w[0] as f64 * l.x, w[1] as f64 * l.y, w[2] as f64 * l.z)
+            }
+            None => x,
+        }
+    }
     /// Pair forces on each particle at the last step.
     pub fn forces(&self) -> &[Vec3] {
         &self.buffers.force

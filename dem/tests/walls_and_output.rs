@@ -169,3 +169,48 @@ fn dump_is_a_lammps_text_frame() {
             && (row[8] - 1.0).abs() < 1e-12
     );
 }
+
+#[test]
+fn a_rig_measures_the_top_walls_travel_across_the_periodic_boundary() {
+    // The top wall slides 1.5 box lengths along x: its stored positions are wrapped back into the box at
+    // list builds, but the rig's shear offset must grow as v t throughout (it once jumped by -L and a
+    // shear test never reached its stop).
+    use dem::scenario::rig::{Rig, RigSpec};
+    let m = Material::table4(0.0);
+    let d0 = 0.6 * m.critical_diameter();
+    let sample =
+        dem::sample::Sample::hcp(Vec3::new(6.0 * d0, 6.0 * d0, 3.0 * d0), d0, m.density).unwrap();
+    let mut rig = Rig::new(
+        &sample,
+        &PairModel::cohesive(m),
+        RigSpec::y_normal(1.5 * d0),
+        RunConfig::default(),
+        Parallelism::Sequential,
+    )
+    .unwrap();
+    let lx = rig.sim.sim_box.lengths().x;
+    let steps = 6000u64;
+    let dt = rig.sim.dt();
+    let v = 1.5 * lx / (steps as f64 * dt);
+    rig.set_top(RigidMotion::with_velocity(Vec3::new(v, 0.0, 0.0)));
+    let top = rig.top_ref;
+    let x0 = rig.sim.particles.pos[top].x;
+    let mut wrapped = false;
+    for k in 1..=steps / 100 {
+        rig.sim.run(100).unwrap();
+        let travel = v * dt * (k * 100) as f64;
+        let (shear, _) = rig.wall_offset();
+        assert!(
+            (shear - travel).abs() < 1e-9 * lx,
+            "after {} steps the offset is {shear}, the wall travelled {travel}",
+            k * 100
+        );
+        let stored = rig.sim.particles.pos[top].x;
+        assert!(rig.sim.sim_box.lo.x <= stored && stored < rig.sim.sim_box.hi.x + 0.1 * d0);
+        wrapped |= (stored - x0 - travel).abs() > 0.5 * lx;
+    }
+    assert!(
+        wrapped,
+        "the top wall's stored position never wrapped: the test proves nothing"
+    );
+}

@@ -176,9 +176,13 @@ impl Rig {
     }
 
     /// Top-wall displacement relative to the bottom wall: (along the shear axis, along the normal).
+    /// From the unwrapped positions: the stored ones jump by a box length when the top wall's reference
+    /// particle crosses the periodic boundary, which turned a shear test's strain from +0.31 to -1.26
+    /// and kept it from ever reaching its stop (the silica calibration's endless shear tests).
     pub fn wall_offset(&self) -> (f64, f64) {
-        let p = &self.sim.particles;
-        let d = p.pos[self.top_ref] - p.pos[self.bottom_ref] - self.offset0;
+        let d = self.sim.unwrapped_position(self.top_ref)
+            - self.sim.unwrapped_position(self.bottom_ref)
+            - self.offset0;
         (d[self.spec.shear], d[self.spec.normal])
     }
 
