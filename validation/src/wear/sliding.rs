@@ -39,7 +39,9 @@ use crate::figures::sliding::{draw_h_tbl, draw_profiles, draw_snapshot, draw_str
 
 /// Bumped when the strength tests' code changes what they give (retires cached measurements).
 // 2: the shear test runs on past the peak and the output carries the flow stress.
-const STRENGTH_VERSION: u32 = 2;
+// 3: the shear strain from the unwrapped top wall (a wall crossing the periodic boundary made it jump
+//    by -L / l0, so a test could run on past its stop and mix wrapped strains into the flow window).
+const STRENGTH_VERSION: u32 = 3;
 
 /// One point of a grid: the settings that differ from the file's `[sliding]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
