@@ -17,8 +17,8 @@ use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 
 use dem::jobs::JobCache;
-use dem::material::{Interactions, PairModel};
-use dem::sample::{make_sample, RelaxConfig, Sample, SampleSpec};
+use dem::material::{Interactions, PairModel, ParamScale};
+use dem::sample::{make_sample, relax as relax_sample, RelaxConfig, Sample, SampleSpec};
 use dem::{DemError, Parallelism};
 use serde::{Deserialize, Serialize};
 
@@ -32,6 +32,13 @@ pub struct RecipeSettings {
     /// seed and the next two (k = 3: the smallest k whose spread says something, at three times the
     /// cost of one sample). Ignored for an HCP lattice or a saved file (one sample).
     pub seeds: Option<Vec<u64>>,
+    /// Relax a trial's samples by continuation: phase 2 only, with the trial model, from the same
+    /// seed's sample relaxed with the closed-form card (all multipliers 1), instead of both phases
+    /// from the random insertion; default false (the paper's recipe). Opt-in for the trials that
+    /// collapse a loose insertion (Table 4 amorphous, docs/calibration.md): a packing already at
+    /// equilibrium is not loose enough to collapse. A card calibrated this way belongs to that
+    /// two-stage recipe, and its verification relaxes the fresh samples the same way.
+    pub continuation: bool,
 }
 
 /// One sample the card is verified on: a seed of the recipe, optionally larger.
@@ -101,6 +108,8 @@ pub fn recipe_samples(recipe: &SampleSpec, seeds: &[u64]) -> Vec<SampleSpec> {
 pub struct SampleCache {
     dir: Option<PathBuf>,
     memory: Mutex<HashMap<String, Result<Arc<Sample>, EvalFailure>>>,
+    /// Relax by continuation from the closed-form sample ([`RecipeSettings::continuation`]).
+    continuation: bool,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -114,20 +123,52 @@ impl SampleCache {
         SampleCache {
             dir,
             memory: Mutex::new(HashMap::new()),
+            continuation: false,
         }
+    }
+
+    /// The same cache relaxing by continuation ([`RecipeSettings::continuation`]) when `on`.
+    pub fn with_continuation(mut self, on: bool) -> Self {
+        self.continuation = on;
+        self
+    }
+
+    /// Whether this cache relaxes trial samples by continuation.
+    pub fn continuation(&self) -> bool {
+        self.continuation
+    }
+
+    /// Whether a sample for `model` is relaxed by continuation (the closed-form model itself is not).
+    fn continues(&self, model: &PairModel) -> bool {
+        self.continuation && model.scale != ParamScale::default()
     }
 
     /// The key of a relaxation: the recipe, the model as the relaxation uses it (the tangential
     /// multipliers and sigma_T set to fixed values, since they cannot change the sample) and the
     /// relaxation settings, hashed like every job of `dem::jobs`.
     pub fn key(spec: &SampleSpec, model: &PairModel, relax: &RelaxConfig) -> String {
+        Self::key_of(spec, model, relax, false)
+    }
+
+    /// [`SampleCache::key`], marked when the sample is relaxed by continuation (a different sample).
+    fn key_of(
+        spec: &SampleSpec,
+        model: &PairModel,
+        relax: &RelaxConfig,
+        continued: bool,
+    ) -> String {
         let mut m = model.clone();
         m.scale.k_t = 1.0;
         m.scale.f_mt = 1.0;
         m.material.shear_strength = 0.0;
         m.interactions = Interactions::FULL;
         // Serialising plain data cannot fail; a key that could not be made would only cost a cache miss.
-        JobCache::key(&(spec, &m, relax)).map_or_else(|e| format!("unkeyed {e}"), |k| k.0)
+        let key = if continued {
+            JobCache::key(&(spec, &m, relax, "continued from the closed form"))
+        } else {
+            JobCache::key(&(spec, &m, relax))
+        };
+        key.map_or_else(|e| format!("unkeyed {e}"), |k| k.0)
     }
 
     /// The sample of `spec` relaxed with `model`: from the cache, or made (sequentially: the
@@ -140,7 +181,8 @@ impl SampleCache {
         model: &PairModel,
         relax: &RelaxConfig,
     ) -> Result<Arc<Sample>, EvalFailure> {
-        let key = Self::key(spec, model, relax);
+        let continued = self.continues(model);
+        let key = Self::key_of(spec, model, relax, continued);
         if let Some(hit) = self.lock().get(&key) {
             return hit.clone();
         }
@@ -148,7 +190,19 @@ impl SampleCache {
             self.lock().insert(key, hit.clone());
             return hit;
         }
-        let made = make_sample(spec, model, relax, Parallelism::Sequential);
+        let made = if continued {
+            // Phase 2 with the trial model from the closed-form sample of the same seed (cached).
+            let mut base = model.clone();
+            base.scale = ParamScale::default();
+            let start = self.get(spec, &base, relax)?;
+            let phase2 = RelaxConfig {
+                phase1_steps: 0,
+                ..*relax
+            };
+            relax_sample(&start, model, &phase2, Parallelism::Sequential)
+        } else {
+            make_sample(spec, model, relax, Parallelism::Sequential)
+        };
         let outcome = match made {
             Err(DemError::Interrupted { step }) => {
                 return Err(EvalFailure(format!("interrupted at step {step}")))

@@ -42,7 +42,8 @@ fn problem_of(p: Prepared, cfg: &CalibrationConfig, out: Option<&Path>) -> Resul
     Ok(PatchProblem {
         samples: p.samples,
         relax: cfg.relax,
-        cache: SampleCache::new(out.map(|o| o.join("samples"))),
+        cache: SampleCache::new(out.map(|o| o.join("samples")))
+            .with_continuation(cfg.recipe.continuation),
         d0,
         model: p.model,
         target: p.target,

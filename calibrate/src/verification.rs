@@ -86,6 +86,10 @@ pub struct Verification {
     pub dstar_target: f64,
     /// The calibration's recipe (its seed is the first calibration sample's).
     pub recipe: SampleSpec,
+    /// Whether the samples were relaxed by continuation from the closed-form sample
+    /// ([`crate::RecipeSettings::continuation`]): a scenario must relax its samples the same way.
+    #[serde(default)]
+    pub continuation: bool,
     pub samples: Vec<VerifiedSample>,
     pub young_modulus: Check,
     pub poisson_ratio: Check,
@@ -180,7 +184,18 @@ pub fn verify(
     ];
     let jobs = dir.map(JobCache::new);
     let one = |spec: &SampleSpec| -> Result<SampleResult> {
-        let key = JobCache::key(&(spec, model, inp.relax, &tests))?;
+        // Samples relaxed by continuation are other samples: another key (the default's is unchanged).
+        let key = if cache.continuation() {
+            JobCache::key(&(
+                spec,
+                model,
+                inp.relax,
+                &tests,
+                "continued from the closed form",
+            ))?
+        } else {
+            JobCache::key(&(spec, model, inp.relax, &tests))?
+        };
         if let Some(jobs) = &jobs {
             if let Some(r) = jobs.get::<SampleResult>(&key)? {
                 return Ok(r);
@@ -265,6 +280,7 @@ pub fn verify(
         dstar,
         dstar_target,
         recipe: inp.recipe.clone(),
+        continuation: cache.continuation(),
         samples,
         young_modulus: e,
         poisson_ratio: nu,

@@ -220,6 +220,53 @@ fn a_trial_under_which_the_packing_collapses_is_a_failed_evaluation_with_its_rea
 }
 
 #[test]
+fn continuation_relaxes_a_trial_from_the_closed_form_sample() {
+    // `[recipe] continuation = true`: the closed-form point relaxes from the insertion as the paper
+    // does (the same residuals as without the option); a trial point runs phase 2 only, with the trial
+    // model, from that closed-form sample of the same seed: another sample, another response.
+    let plain = CalibrationConfig::from_toml(TINY).unwrap();
+    let cont = CalibrationConfig::from_toml(
+        &TINY.replace("seeds = [1, 2]", "seeds = [1, 2]\ncontinuation = true"),
+    )
+    .unwrap();
+    let (out_p, out_c) = (tmp("plain"), tmp("continued"));
+    for o in [&out_p, &out_c] {
+        std::fs::create_dir_all(o.join("samples")).unwrap();
+    }
+    let pp = calibrate::run::problem(&plain, Some(&out_p)).unwrap();
+    let pc = calibrate::run::problem(&cont, Some(&out_c)).unwrap();
+    assert_eq!(
+        pp.evaluate(&[0.0, 0.0]).unwrap().r,
+        pc.evaluate(&[0.0, 0.0]).unwrap().r
+    );
+    let x = [0.15, 0.0];
+    let (tp, tc) = (pp.evaluate(&x).unwrap(), pc.evaluate(&x).unwrap());
+    assert_ne!(tp.r, tc.r, "a continued sample is another sample");
+    let samples: Vec<dem::sample::Sample> = std::fs::read_dir(out_c.join("samples"))
+        .unwrap()
+        .map(|f| dem::sample::Sample::load(&f.unwrap().path()).unwrap())
+        .collect();
+    assert_eq!(
+        samples.len(),
+        4,
+        "two closed-form samples and two continued ones"
+    );
+    let report = |s: &dem::sample::Sample| s.relaxation.clone().unwrap();
+    let continued: Vec<_> = samples
+        .iter()
+        .filter(|s| report(s).phase1_steps == 0)
+        .collect();
+    assert_eq!(continued.len(), 2);
+    for s in continued {
+        let r = report(s);
+        assert!(r.converged && r.phase2_steps > 0, "{r:?}");
+    }
+    for o in [&out_p, &out_c] {
+        let _ = std::fs::remove_dir_all(o);
+    }
+}
+
+#[test]
 fn verification_seeds_must_be_fresh() {
     let text = TINY.replace("{ seed = 11 }", "{ seed = 2 }");
     let e = CalibrationConfig::from_toml(&text)
