@@ -187,6 +187,22 @@ impl SampleCache {
             return hit.clone();
         }
         if let Some(hit) = self.load(&key) {
+            // A sample stored before `fail_coordination` existed may be a collapse it now refuses.
+            let hit = match hit {
+                Ok(s) => match s.relaxation.as_ref() {
+                    Some(r) if r.coordination.interacting > relax.fail_coordination => {
+                        Err(EvalFailure(format!(
+                            "{}: the relaxed packing has {:.1} partners per particle within the \
+                             cohesive range, above fail_coordination = {}: it collapsed into itself",
+                            describe(spec),
+                            r.coordination.interacting,
+                            relax.fail_coordination
+                        )))
+                    }
+                    _ => Ok(s),
+                },
+                failed => failed,
+            };
             self.lock().insert(key, hit.clone());
             return hit;
         }

@@ -219,6 +219,38 @@ fn a_collapsing_relaxation_fails_early_with_the_reason() {
     assert!(ok.relaxation.unwrap().converged);
 }
 
+/// A packing that settles with more partners per particle than `fail_coordination` is refused with
+/// the reason (a collapse that never passed `fail_stress`: 243 partners measured, docs/calibration.md);
+/// the same healthy sample (~14 partners) passes under the default bound of 30 and fails under 10.
+#[test]
+fn a_packing_with_too_many_partners_is_refused_with_the_reason() {
+    let mat = Material::table4(0.15);
+    let model = PairModel::cohesive(mat.clone());
+    let ins = insertion(&mat, 0.6, 6.0, 3);
+    let ok = amorphous(
+        &ins,
+        &model,
+        &RelaxConfig::default(),
+        Parallelism::Sequential,
+    )
+    .unwrap();
+    let partners = ok.relaxation.unwrap().coordination.interacting;
+    assert!((10.0..30.0).contains(&partners), "{partners}");
+    let strict = RelaxConfig {
+        fail_coordination: 10.0,
+        ..RelaxConfig::default()
+    };
+    match amorphous(&ins, &model, &strict, Parallelism::Sequential) {
+        Err(dem::DemError::RelaxationFailed { reason, .. }) => {
+            assert!(
+                reason.contains("fail_coordination") && reason.contains("partners"),
+                "{reason}"
+            )
+        }
+        other => panic!("expected a refused packing, got {other:?}"),
+    }
+}
+
 /// The relaxation switches the tangential force off in both phases, so the tangential multipliers
 /// (k_T, F_mT) and the shear strength cannot change a relaxed sample: calibrate's cache of relaxed
 /// samples relies on it to share one sample among trial models that differ only there.
