@@ -133,14 +133,15 @@ impl SampleCache {
         self
     }
 
-    /// Whether this cache relaxes trial samples by continuation.
+    /// Whether this cache relaxes trial samples by continuation (`[recipe] continuation`; a
+    /// `[relax] continuation` does the same through the relaxation settings).
     pub fn continuation(&self) -> bool {
         self.continuation
     }
 
     /// Whether a sample for `model` is relaxed by continuation (the closed-form model itself is not).
-    fn continues(&self, model: &PairModel) -> bool {
-        self.continuation && model.scale != ParamScale::default()
+    fn continues(&self, model: &PairModel, relax: &RelaxConfig) -> bool {
+        (self.continuation || relax.continuation) && model.scale != ParamScale::default()
     }
 
     /// The key of a relaxation: the recipe, the model as the relaxation uses it (the tangential
@@ -181,7 +182,7 @@ impl SampleCache {
         model: &PairModel,
         relax: &RelaxConfig,
     ) -> Result<Arc<Sample>, EvalFailure> {
-        let continued = self.continues(model);
+        let continued = self.continues(model, relax);
         let key = Self::key_of(spec, model, relax, continued);
         if let Some(hit) = self.lock().get(&key) {
             return hit.clone();
@@ -210,12 +211,12 @@ impl SampleCache {
             // Phase 2 with the trial model from the closed-form sample of the same seed (cached).
             let mut base = model.clone();
             base.scale = ParamScale::default();
-            let start = self.get(spec, &base, relax)?;
-            let phase2 = RelaxConfig {
-                phase1_steps: 0,
+            let once = RelaxConfig {
+                continuation: false,
                 ..*relax
             };
-            relax_sample(&start, model, &phase2, Parallelism::Sequential)
+            let start = self.get(spec, &base, &once)?;
+            relax_sample(&start, model, &once.phase2_only(), Parallelism::Sequential)
         } else {
             make_sample(spec, model, relax, Parallelism::Sequential)
         };

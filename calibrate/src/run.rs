@@ -5,7 +5,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use dem::sample::{Sample, SampleSpec};
+use dem::sample::{RelaxConfig, Sample, SampleSpec};
 use dem::scenario::patch::suite::PatchKind;
 use dem::scenario::patch::{ModelSource, PatchSuite};
 use dem::Parallelism;
@@ -142,7 +142,11 @@ pub fn calibrate(
         model,
         material_si: cfg.material_si.clone(),
         sample: p.sample.clone(),
-        relax: cfg.relax,
+        // The card's samples are made as the calibration's were (continuation included).
+        relax: RelaxConfig {
+            continuation: cfg.relax.continuation || cfg.recipe.continuation,
+            ..cfg.relax
+        },
         tests: p.tests,
         targets: targets(&prob),
         uncalibrated: prob.properties_of(&cp.r0),

@@ -103,6 +103,19 @@ pub struct ResolvedMaterial {
     pub card: Option<CalibratedCard>,
 }
 
+impl ResolvedMaterial {
+    /// A scenario's relaxation settings `own`, made as the card's samples were where the card
+    /// requires it (relaxation by continuation, [`dem::sample::RelaxConfig::continuation`]): a card
+    /// calibrated that way holds only on samples relaxed that way.
+    pub fn relax_for(&self, own: dem::sample::RelaxConfig) -> dem::sample::RelaxConfig {
+        let continued = self.card.as_ref().is_some_and(|c| c.relax.continuation);
+        dem::sample::RelaxConfig {
+            continuation: own.continuation || continued,
+            ..own
+        }
+    }
+}
+
 impl MaterialSource {
     /// Resolves the source for a config in `units` whose relative paths start at `base`, with `law`
     /// for the closed-form sources.

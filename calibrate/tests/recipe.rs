@@ -261,6 +261,21 @@ fn continuation_relaxes_a_trial_from_the_closed_form_sample() {
         let r = report(s);
         assert!(r.converged && r.phase2_steps > 0, "{r:?}");
     }
+    // The card says how its samples are made, so that a scenario relaxing a new sample with it
+    // (`ResolvedMaterial::relax_for`, the patch file) continues from the closed form too.
+    let one = CalibrationConfig::from_toml(
+        &TINY
+            .replace("seeds = [1, 2]", "seeds = [1, 2]\ncontinuation = true")
+            .replace("max_iterations = 20", "max_iterations = 1")
+            .replace("[verification]", "[verification]\nskip = true"),
+    )
+    .unwrap();
+    let card = calibrate(&one, &out_c.join("run"), Parallelism::Sequential, None)
+        .unwrap()
+        .card;
+    assert!(card.relax.continuation && card.verification.is_none());
+    let patch = std::fs::read_to_string(out_c.join("run").join("patch.toml")).unwrap();
+    assert!(patch.contains("continuation = true"), "{patch}");
     for o in [&out_p, &out_c] {
         let _ = std::fs::remove_dir_all(o);
     }

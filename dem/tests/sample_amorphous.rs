@@ -5,7 +5,7 @@
 
 use dem::sample::insert::InsertionConfig;
 use dem::sample::stats::gap_statistics;
-use dem::sample::{amorphous, RelaxConfig, Sample, SizeDistribution};
+use dem::sample::{amorphous, relax, RelaxConfig, Sample, SizeDistribution};
 use dem::scenario::patch::{elastic, ElasticConfig};
 use dem::{Material, PairModel, Parallelism, Vec3};
 
@@ -249,6 +249,44 @@ fn a_packing_with_too_many_partners_is_refused_with_the_reason() {
         }
         other => panic!("expected a refused packing, got {other:?}"),
     }
+}
+
+/// `continuation = true`: a model with multipliers is relaxed in two stages, both phases with the
+/// closed-form parameters and then phase 2 with its own from that packing, bit for bit the same as
+/// doing the two by hand, where the one pass from the insertion collapses (delta_e x 1.3); the
+/// closed-form model itself is relaxed once, as without the option.
+#[test]
+fn relaxation_by_continuation_is_the_closed_form_sample_relaxed_again() {
+    let mat = Material::table4(0.15);
+    let closed = PairModel::cohesive(mat.clone());
+    let mut trial = closed.clone();
+    trial.scale.delta_e = 1.3;
+    let ins = dem::sample::random_insertion(&insertion(&mat, 0.6, 6.0, 4)).unwrap();
+    let plain = RelaxConfig::default();
+    let cont = RelaxConfig {
+        continuation: true,
+        ..plain
+    };
+    let seq = Parallelism::Sequential;
+    let by_hand = relax(
+        &relax(&ins, &closed, &plain, seq).unwrap(),
+        &trial,
+        &plain.phase2_only(),
+        seq,
+    )
+    .unwrap();
+    let continued = relax(&ins, &trial, &cont, seq).unwrap();
+    assert_eq!(continued.particles, by_hand.particles);
+    assert_eq!(continued.relaxation.as_ref().unwrap().phase1_steps, 0);
+    // The point of the option: the same trial relaxed from the insertion collapses.
+    assert!(matches!(
+        relax(&ins, &trial, &plain, seq),
+        Err(dem::DemError::RelaxationFailed { .. })
+    ));
+    assert_eq!(
+        relax(&ins, &closed, &cont, seq).unwrap().particles,
+        relax(&ins, &closed, &plain, seq).unwrap().particles
+    );
 }
 
 /// The relaxation switches the tangential force off in both phases, so the tangential multipliers

@@ -31,7 +31,7 @@ use crate::error::{not_positive, DemError, Result};
 use crate::io::checkpoint::Checkpoint;
 use crate::io::progress::{self, ProgressFile, SaveClock};
 use crate::io::Sig;
-use crate::material::{Interactions, PairModel};
+use crate::material::{Interactions, PairModel, ParamScale};
 use crate::sim::{Parallelism, RunConfig, Simulation, TimeStep};
 use crate::Vec3;
 
@@ -85,6 +85,14 @@ pub struct RelaxConfig {
     /// silica recipe with d_l = 2.5 d0). Not written when it is the default (unchanged sample keys).
     #[serde(skip_serializing_if = "is_default_fail_coordination")]
     pub fail_coordination: f64,
+    /// Relax by continuation: both phases with the closed-form parameters (every multiplier 1), then
+    /// phase 2 again with the model's own multipliers from that packing; default false (the paper's
+    /// one pass). A card calibrated with `[recipe] continuation = true` carries it, so that every
+    /// sample relaxed with the card is made as its calibration samples were: trial multipliers that
+    /// collapse a loose insertion relax from a packing already at equilibrium (docs/calibration.md).
+    /// Not written when false (unchanged sample keys).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub continuation: bool,
 }
 
 fn is_default_fail_stress(v: &f64) -> bool {
@@ -112,6 +120,7 @@ impl Default for RelaxConfig {
             contact_tolerance: 1e-3,
             fail_stress: 0.25,
             fail_coordination: 30.0,
+            continuation: false,
         }
     }
 }
@@ -142,6 +151,15 @@ pub struct RelaxReport {
 }
 
 impl RelaxConfig {
+    /// These settings for a packing that is already relaxed: no phase 1, one pass.
+    pub fn phase2_only(&self) -> Self {
+        RelaxConfig {
+            phase1_steps: 0,
+            continuation: false,
+            ..*self
+        }
+    }
+
     fn validate(&self) -> Result<()> {
         if let Some(m) = not_positive(&[
             ("phase2_damping", self.phase2_damping),
@@ -206,6 +224,18 @@ pub fn relax_resumable(
     progress: Option<&ProgressFile>,
 ) -> Result<Sample> {
     cfg.validate()?;
+    if cfg.continuation && model.scale != ParamScale::default() {
+        // Both stages keep their progress in the same file under their own keys: an interrupted
+        // second stage redoes the (deterministic) first and resumes.
+        let mut closed_form = model.clone();
+        closed_form.scale = ParamScale::default();
+        let once = RelaxConfig {
+            continuation: false,
+            ..*cfg
+        };
+        let start = relax_resumable(sample, &closed_form, &once, par, progress)?;
+        return relax_resumable(&start, model, &once.phase2_only(), par, progress);
+    }
     if sample.sim_box.periodic != [true; 3] {
         return Err(DemError::InvalidBox(
             "relaxation needs a box periodic on every axis".into(),

@@ -245,7 +245,6 @@ pub fn search(
     let settings = file.settings()?;
     std::fs::create_dir_all(out).map_err(|e| ValidationError::io(out, e))?;
     let samples = JobCache::new(out.join("samples"));
-    let model = &material.model;
     let base = &file.junction;
     let seeds = &file.search.seeds;
     // The base box of the first seed carries the measurement of the material's properties.
@@ -280,7 +279,7 @@ pub fn search(
     };
     let b = Bracket::of(&probes);
     let measured = if file.search.measure {
-        Some(measure(&samples, &measure_box, model, out, par)?)
+        Some(measure(&samples, &measure_box, material, out, par)?)
     } else {
         None
     };
@@ -377,7 +376,7 @@ pub fn run_sizes(
     // The relaxed boxes first, each once, so that no two runs relax the same box at once.
     let mut box_jobs: Vec<SampleJob> = Vec::new();
     for j in &jobs {
-        let b = SampleJob::new(&j.junction, model);
+        let b = SampleJob::new(&j.junction, material);
         if !box_jobs.contains(&b) {
             box_jobs.push(b);
         }
@@ -417,10 +416,11 @@ pub fn run_sizes(
 fn measure(
     samples: &JobCache,
     cfg: &JunctionConfig,
-    model: &PairModel,
+    material: &ResolvedMaterial,
     out: &Path,
     par: Parallelism,
 ) -> Result<Measured> {
+    let model = &material.model;
     let cache = JobCache::new(out.join("measured"));
     // Tension continues to complete separation (amorphous bonds re-form behind the crack), so that
     // half the fracture energy is the material's surface energy.
@@ -435,7 +435,7 @@ fn measure(
         return Ok(m);
     }
     let t = std::time::Instant::now();
-    let (sample, _) = relaxed_sample(samples, cfg, model, par)?;
+    let (sample, _) = relaxed_sample(samples, cfg, material, par)?;
     tracing::info!(
         particles = sample.particles.len(),
         "measuring the material on the search's recipe"

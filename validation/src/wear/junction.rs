@@ -130,12 +130,12 @@ pub struct SampleJob<'a> {
 }
 
 impl<'a> SampleJob<'a> {
-    /// The relaxed box of `cfg` for `model`.
-    pub fn new(cfg: &JunctionConfig, model: &'a PairModel) -> Self {
+    /// The relaxed box of `cfg` for `material` (relaxed as its card requires).
+    pub fn new(cfg: &JunctionConfig, material: &'a ResolvedMaterial) -> Self {
         SampleJob {
-            recipe: recipe(cfg, model),
-            model,
-            relax: cfg.relax,
+            recipe: recipe(cfg, &material.model),
+            model: &material.model,
+            relax: material.relax_for(cfg.relax),
         }
     }
 
@@ -155,15 +155,15 @@ impl<'a> SampleJob<'a> {
     }
 }
 
-/// The relaxed box of `cfg` for `model`, from the sample cache `samples` (relaxed and stored on first
-/// use; every D of a search shares it).
+/// The relaxed box of `cfg` for `material`, from the sample cache `samples` (relaxed and stored on
+/// first use; every D of a search shares it).
 pub fn relaxed_sample(
     samples: &JobCache,
     cfg: &JunctionConfig,
-    model: &PairModel,
+    material: &ResolvedMaterial,
     par: Parallelism,
 ) -> Result<(Sample, SampleRecord)> {
-    let job = SampleJob::new(cfg, model);
+    let job = SampleJob::new(cfg, material);
     let one = RunJobs {
         at_once: 1,
         ..RunJobs::default()
@@ -227,7 +227,7 @@ pub fn run_junction(
     report: &mut dyn FnMut(u64, u64),
 ) -> Result<JunctionSummary> {
     std::fs::create_dir_all(out).map_err(|e| ValidationError::io(out, e))?;
-    let (sample, record) = relaxed_sample(samples, cfg, &material.model, par)?;
+    let (sample, record) = relaxed_sample(samples, cfg, material, par)?;
     let progress = ProgressFile::new(out.join("junction.progress.json"));
     let dump = (cfg.dump_frames > 0).then(|| out.join("junction.dump"));
     let r = run_resumable(
