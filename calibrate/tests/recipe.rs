@@ -276,6 +276,22 @@ fn continuation_relaxes_a_trial_from_the_closed_form_sample() {
     assert!(card.relax.continuation && card.verification.is_none());
     let patch = std::fs::read_to_string(out_c.join("run").join("patch.toml")).unwrap();
     assert!(patch.contains("continuation = true"), "{patch}");
+    let source = calibrate::MaterialSource {
+        card: Some(out_c.join("run").join("card.toml")),
+        ..Default::default()
+    };
+    let material = source
+        .resolve(
+            Path::new("."),
+            calibrate::Units::Reduced,
+            dem::material::ForceLaw::Cohesive,
+        )
+        .unwrap();
+    assert!(
+        material
+            .relax_for(dem::sample::RelaxConfig::default())
+            .continuation
+    );
     for o in [&out_p, &out_c] {
         let _ = std::fs::remove_dir_all(o);
     }
