@@ -364,7 +364,7 @@ fn table4_amorphous_card_holds_on_fresh_samples() {
 }
 
 #[test]
-#[ignore = "issue 16 acceptance, over an hour on 2 cores (not met yet: docs/calibration.md)"]
+#[ignore = "issue 16 acceptance, ~25 min on 2 cores (not met yet: stalls, sigma_N -5.5 %; docs/calibration.md)"]
 fn silica_card_holds_on_fresh_samples() {
     issue16_acceptance("configs/calibrate-silica.toml");
 }
