@@ -2,8 +2,8 @@
 //!
 //! - left: the relative error of each target property, |measured - target| / target in percent on a
 //!   log scale, for the closed-form parameters (uncalibrated), the calibrated card and, when the card
-//!   was verified by re-running the patch tests, the verification;
-//! - right: the least-squares cost 1/2 |r|^2 after each Levenberg-Marquardt iteration (log scale),
+//!   was verified on fresh samples of its recipe, their mean;
+//! - right: the least-squares cost 1/2 |r|^2 after each solver iteration (log scale),
 //!   starting from the closed form at iteration 0.
 
 use std::path::Path;
@@ -91,7 +91,7 @@ pub fn draw(path: &Path, rows: &[ErrorRow], costs: &[(usize, f64)]) -> Result<()
     let kinds: [(&str, Pick); 3] = [
         ("uncalibrated (closed form)", |r| r.uncalibrated),
         ("calibrated", |r| r.calibrated),
-        ("verified (patch tests re-run)", |r| r.verified),
+        ("verified (mean on fresh samples)", |r| r.verified),
     ];
     let values = || {
         rows.iter()
@@ -177,7 +177,7 @@ pub fn draw(path: &Path, rows: &[ErrorRow], costs: &[(usize, f64)]) -> Result<()
         .x_label_formatter(&|v| integer_tick(*v).map_or(String::new(), |k| k.to_string()))
         .y_labels(0)
         .disable_y_mesh()
-        .x_desc("Levenberg-Marquardt iteration")
+        .x_desc("solver iteration (Levenberg-Marquardt or trust region)")
         .y_desc("1/2 |r|^2")
         .label_style((FAMILY, 15))
         .axis_desc_style((FAMILY, 17))
