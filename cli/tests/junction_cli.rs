@@ -80,7 +80,7 @@ fn a_junction_run_writes_its_verdict_curves_frames_dump_and_snapshot() {
     assert_eq!(frames["frames"].as_array().unwrap().len(), 21);
     let dump = std::fs::read_to_string(out.join("junction.dump")).unwrap();
     assert_eq!(dump.matches("ITEM: TIMESTEP").count(), 6);
-    assert!(dump.contains("omegaz body junction"));
+    assert!(dump.contains("omegaz ix iy iz body junction"));
     for png in ["snapshot.png", "force.png"] {
         let bytes = std::fs::read(out.join(png)).unwrap();
         assert_eq!(&bytes[1..4], b"PNG", "{png}");

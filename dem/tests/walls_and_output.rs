@@ -213,4 +213,20 @@ fn a_rig_measures_the_top_walls_travel_across_the_periodic_boundary() {
         wrapped,
         "the top wall's stored position never wrapped: the test proves nothing"
     );
+    // The dump's image flags give the same continuous position (x + ix L_x).
+    let mut buf = Vec::new();
+    write_frame(&rig.sim, &mut buf).unwrap();
+    let text = String::from_utf8(buf).unwrap();
+    let header: Vec<&str> = text.lines().nth(8).unwrap().split_whitespace().collect();
+    let col = |name: &str| header.iter().position(|&h| h == name).unwrap() - 2;
+    let row: Vec<f64> = text
+        .lines()
+        .nth(9 + top)
+        .unwrap()
+        .split_whitespace()
+        .map(|w| w.parse().unwrap())
+        .collect();
+    assert!(row[col("ix")] >= 1.0, "{row:?}");
+    let unwrapped = row[col("x")] + row[col("ix")] * lx;
+    assert!((unwrapped - rig.sim.unwrapped_position(top).x).abs() < 1e-9 * lx);
 }

@@ -1,6 +1,8 @@
 //! LAMMPS-style text dumps (`ITEM: TIMESTEP ...`), which OVITO opens directly: one frame per call,
-//! columns id, type (group + 1), x, y, z, radius, vx, vy, vz, wx, wy, wz, then any integer labels the
-//! caller adds (a scenario's `body`: which body each particle initially belonged to, for colouring).
+//! columns id, type (group + 1), x, y, z, radius, vx, vy, vz, wx, wy, wz, the image flags ix, iy, iz
+//! (box lengths each particle has been wrapped by: x + ix L_x is its continuous trajectory), then any
+//! integer labels the caller adds (a scenario's `body`: which body each particle initially belonged
+//! to, for colouring).
 
 use std::io::Write;
 use std::path::Path;
@@ -67,7 +69,7 @@ pub fn write_labeled_frame(
     }
     write!(
         w,
-        "ITEM: ATOMS id type x y z radius vx vy vz omegax omegay omegaz"
+        "ITEM: ATOMS id type x y z radius vx vy vz omegax omegay omegaz ix iy iz"
     )?;
     for (name, _) in labels {
         write!(w, " {name}")?;
@@ -91,6 +93,10 @@ pub fn write_labeled_frame(
             o.y,
             o.z
         )?;
+        // Image flags (box lengths the particle has been wrapped by), so that OVITO's "unwrap
+        // trajectories" and LAMMPS tools follow a particle across the periodic boundaries.
+        let n = sim.neighbors().wraps.get(i).copied().unwrap_or([0; 3]);
+        write!(w, " {} {} {}", n[0], n[1], n[2])?;
         for (_, v) in labels {
             write!(w, " {}", v[i])?;
         }
