@@ -32,13 +32,6 @@ pub struct RecipeSettings {
     /// seed and the next two (k = 3: the smallest k whose spread says something, at three times the
     /// cost of one sample). Ignored for an HCP lattice or a saved file (one sample).
     pub seeds: Option<Vec<u64>>,
-    /// Relax a trial's samples by continuation: phase 2 only, with the trial model, from the same
-    /// seed's sample relaxed with the closed-form card (all multipliers 1), instead of both phases
-    /// from the random insertion; default false (the paper's recipe). Opt-in for the trials that
-    /// collapse a loose insertion (Table 4 amorphous, docs/calibration.md): a packing already at
-    /// equilibrium is not loose enough to collapse. A card calibrated this way belongs to that
-    /// two-stage recipe, and its verification relaxes the fresh samples the same way.
-    pub continuation: bool,
 }
 
 /// One sample the card is verified on: a seed of the recipe, optionally larger.
@@ -108,8 +101,6 @@ pub fn recipe_samples(recipe: &SampleSpec, seeds: &[u64]) -> Vec<SampleSpec> {
 pub struct SampleCache {
     dir: Option<PathBuf>,
     memory: Mutex<HashMap<String, Result<Arc<Sample>, EvalFailure>>>,
-    /// Relax by continuation from the closed-form sample ([`RecipeSettings::continuation`]).
-    continuation: bool,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -123,53 +114,20 @@ impl SampleCache {
         SampleCache {
             dir,
             memory: Mutex::new(HashMap::new()),
-            continuation: false,
         }
-    }
-
-    /// The same cache relaxing by continuation ([`RecipeSettings::continuation`]) when `on`.
-    pub fn with_continuation(mut self, on: bool) -> Self {
-        self.continuation = on;
-        self
-    }
-
-    /// Whether this cache relaxes trial samples by continuation (`[recipe] continuation`; a
-    /// `[relax] continuation` does the same through the relaxation settings).
-    pub fn continuation(&self) -> bool {
-        self.continuation
-    }
-
-    /// Whether a sample for `model` is relaxed by continuation (the closed-form model itself is not).
-    fn continues(&self, model: &PairModel, relax: &RelaxConfig) -> bool {
-        (self.continuation || relax.continuation) && model.scale != ParamScale::default()
     }
 
     /// The key of a relaxation: the recipe, the model as the relaxation uses it (the tangential
     /// multipliers and sigma_T set to fixed values, since they cannot change the sample) and the
     /// relaxation settings, hashed like every job of `dem::jobs`.
     pub fn key(spec: &SampleSpec, model: &PairModel, relax: &RelaxConfig) -> String {
-        Self::key_of(spec, model, relax, false)
-    }
-
-    /// [`SampleCache::key`], marked when the sample is relaxed by continuation (a different sample).
-    fn key_of(
-        spec: &SampleSpec,
-        model: &PairModel,
-        relax: &RelaxConfig,
-        continued: bool,
-    ) -> String {
         let mut m = model.clone();
         m.scale.k_t = 1.0;
         m.scale.f_mt = 1.0;
         m.material.shear_strength = 0.0;
         m.interactions = Interactions::FULL;
         // Serialising plain data cannot fail; a key that could not be made would only cost a cache miss.
-        let key = if continued {
-            JobCache::key(&(spec, &m, relax, "continued from the closed form"))
-        } else {
-            JobCache::key(&(spec, &m, relax))
-        };
-        key.map_or_else(|e| format!("unkeyed {e}"), |k| k.0)
+        JobCache::key(&(spec, &m, relax)).map_or_else(|e| format!("unkeyed {e}"), |k| k.0)
     }
 
     /// The sample of `spec` relaxed with `model`: from the cache, or made (sequentially: the
@@ -182,8 +140,14 @@ impl SampleCache {
         model: &PairModel,
         relax: &RelaxConfig,
     ) -> Result<Arc<Sample>, EvalFailure> {
-        let continued = self.continues(model, relax);
-        let key = Self::key_of(spec, model, relax, continued);
+        // Relaxation by continuation (`[relax] continuation`) changes nothing for the closed-form
+        // model itself: one key for both, so that its sample is made once and shared as every
+        // trial's starting packing.
+        let relax = &RelaxConfig {
+            continuation: relax.continuation && model.scale != ParamScale::default(),
+            ..*relax
+        };
+        let key = Self::key(spec, model, relax);
         if let Some(hit) = self.lock().get(&key) {
             return hit.clone();
         }
@@ -207,16 +171,13 @@ impl SampleCache {
             self.lock().insert(key, hit.clone());
             return hit;
         }
-        let made = if continued {
-            // Phase 2 with the trial model from the closed-form sample of the same seed (cached).
+        let made = if relax.continuation {
+            // `make_sample` would relax the closed-form sample again for every trial: take it from
+            // the cache, then phase 2 with the trial model (the same bits, `dem`'s test).
             let mut base = model.clone();
             base.scale = ParamScale::default();
-            let once = RelaxConfig {
-                continuation: false,
-                ..*relax
-            };
-            let start = self.get(spec, &base, &once)?;
-            relax_sample(&start, model, &once.phase2_only(), Parallelism::Sequential)
+            let start = self.get(spec, &base, relax)?;
+            relax_sample(&start, model, &relax.phase2_only(), Parallelism::Sequential)
         } else {
             make_sample(spec, model, relax, Parallelism::Sequential)
         };

@@ -5,7 +5,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use dem::sample::{RelaxConfig, Sample, SampleSpec};
+use dem::sample::{Sample, SampleSpec};
 use dem::scenario::patch::suite::PatchKind;
 use dem::scenario::patch::{ModelSource, PatchSuite};
 use dem::Parallelism;
@@ -42,8 +42,7 @@ fn problem_of(p: Prepared, cfg: &CalibrationConfig, out: Option<&Path>) -> Resul
     Ok(PatchProblem {
         samples: p.samples,
         relax: cfg.relax,
-        cache: SampleCache::new(out.map(|o| o.join("samples")))
-            .with_continuation(cfg.recipe.continuation),
+        cache: SampleCache::new(out.map(|o| o.join("samples"))),
         d0,
         model: p.model,
         target: p.target,
@@ -142,11 +141,7 @@ pub fn calibrate(
         model,
         material_si: cfg.material_si.clone(),
         sample: p.sample.clone(),
-        // The card's samples are made as the calibration's were (continuation included).
-        relax: RelaxConfig {
-            continuation: cfg.relax.continuation || cfg.recipe.continuation,
-            ..cfg.relax
-        },
+        relax: cfg.relax,
         tests: p.tests,
         targets: targets(&prob),
         uncalibrated: prob.properties_of(&cp.r0),

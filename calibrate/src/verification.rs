@@ -86,10 +86,6 @@ pub struct Verification {
     pub dstar_target: f64,
     /// The calibration's recipe (its seed is the first calibration sample's).
     pub recipe: SampleSpec,
-    /// Whether the samples were relaxed by continuation from the closed-form sample
-    /// ([`crate::RecipeSettings::continuation`]): a scenario must relax its samples the same way.
-    #[serde(default)]
-    pub continuation: bool,
     pub samples: Vec<VerifiedSample>,
     pub young_modulus: Check,
     pub poisson_ratio: Check,
@@ -184,18 +180,7 @@ pub fn verify(
     ];
     let jobs = dir.map(JobCache::new);
     let one = |spec: &SampleSpec| -> Result<SampleResult> {
-        // Samples relaxed by continuation are other samples: another key (the default's is unchanged).
-        let key = if cache.continuation() {
-            JobCache::key(&(
-                spec,
-                model,
-                inp.relax,
-                &tests,
-                "continued from the closed form",
-            ))?
-        } else {
-            JobCache::key(&(spec, model, inp.relax, &tests))?
-        };
+        let key = JobCache::key(&(spec, model, inp.relax, &tests))?;
         if let Some(jobs) = &jobs {
             if let Some(r) = jobs.get::<SampleResult>(&key)? {
                 return Ok(r);
@@ -280,7 +265,6 @@ pub fn verify(
         dstar,
         dstar_target,
         recipe: inp.recipe.clone(),
-        continuation: cache.continuation(),
         samples,
         young_modulus: e,
         poisson_ratio: nu,

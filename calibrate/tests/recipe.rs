@@ -221,13 +221,14 @@ fn a_trial_under_which_the_packing_collapses_is_a_failed_evaluation_with_its_rea
 
 #[test]
 fn continuation_relaxes_a_trial_from_the_closed_form_sample() {
-    // `[recipe] continuation = true`: the closed-form point relaxes from the insertion as the paper
+    // `[relax] continuation = true`: the closed-form point relaxes from the insertion as the paper
     // does (the same residuals as without the option); a trial point runs phase 2 only, with the trial
     // model, from that closed-form sample of the same seed: another sample, another response.
     let plain = CalibrationConfig::from_toml(TINY).unwrap();
-    let cont = CalibrationConfig::from_toml(
-        &TINY.replace("seeds = [1, 2]", "seeds = [1, 2]\ncontinuation = true"),
-    )
+    let cont = CalibrationConfig::from_toml(&TINY.replace(
+        "seeds = [1, 2]",
+        "seeds = [1, 2]\n[relax]\ncontinuation = true",
+    ))
     .unwrap();
     let (out_p, out_c) = (tmp("plain"), tmp("continued"));
     for o in [&out_p, &out_c] {
@@ -265,7 +266,10 @@ fn continuation_relaxes_a_trial_from_the_closed_form_sample() {
     // (`ResolvedMaterial::relax_for`, the patch file) continues from the closed form too.
     let one = CalibrationConfig::from_toml(
         &TINY
-            .replace("seeds = [1, 2]", "seeds = [1, 2]\ncontinuation = true")
+            .replace(
+                "seeds = [1, 2]",
+                "seeds = [1, 2]\n[relax]\ncontinuation = true",
+            )
             .replace("max_iterations = 20", "max_iterations = 1")
             .replace("[verification]", "[verification]\nskip = true"),
     )

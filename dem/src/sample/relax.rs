@@ -87,7 +87,7 @@ pub struct RelaxConfig {
     pub fail_coordination: f64,
     /// Relax by continuation: both phases with the closed-form parameters (every multiplier 1), then
     /// phase 2 again with the model's own multipliers from that packing; default false (the paper's
-    /// one pass). A card calibrated with `[recipe] continuation = true` carries it, so that every
+    /// one pass). A card calibrated with `[relax] continuation = true` carries it, so that every
     /// sample relaxed with the card is made as its calibration samples were: trial multipliers that
     /// collapse a loose insertion relax from a packing already at equilibrium (docs/calibration.md).
     /// Not written when false (unchanged sample keys).
