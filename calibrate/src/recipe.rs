@@ -153,21 +153,16 @@ impl SampleCache {
         }
         if let Some(hit) = self.load(&key) {
             // A sample stored before `fail_coordination` existed may be a collapse it now refuses.
-            let hit = match hit {
-                Ok(s) => match s.relaxation.as_ref() {
-                    Some(r) if r.coordination.interacting > relax.fail_coordination => {
-                        Err(EvalFailure(format!(
-                            "{}: the relaxed packing has {:.1} partners per particle within the \
-                             cohesive range, above fail_coordination = {}: it collapsed into itself",
-                            describe(spec),
-                            r.coordination.interacting,
-                            relax.fail_coordination
-                        )))
-                    }
-                    _ => Ok(s),
-                },
-                failed => failed,
-            };
+            let hit =
+                match hit {
+                    Ok(s) => match s.relaxation.as_ref().and_then(|r| {
+                        relax.collapsed(r.coordination.interacting, r.volume_fraction)
+                    }) {
+                        Some(why) => Err(EvalFailure(format!("{}: {why}", describe(spec)))),
+                        None => Ok(s),
+                    },
+                    failed => failed,
+                };
             self.lock().insert(key, hit.clone());
             return hit;
         }

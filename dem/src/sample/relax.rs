@@ -151,6 +151,19 @@ pub struct RelaxReport {
 }
 
 impl RelaxConfig {
+    /// Why a relaxed packing with `partners` per particle within the cohesive range (at
+    /// `volume_fraction`) is a collapse, or none (`fail_coordination`).
+    pub fn collapsed(&self, partners: f64, volume_fraction: f64) -> Option<String> {
+        (partners > self.fail_coordination).then(|| {
+            format!(
+                "the relaxed packing has {partners:.1} partners per particle within the cohesive \
+                 range (volume fraction {volume_fraction:.3}), above fail_coordination = {}: it \
+                 collapsed into itself",
+                self.fail_coordination
+            )
+        })
+    }
+
     /// These settings for a packing that is already relaxed: no phase 1, one pass.
     pub fn phase2_only(&self) -> Self {
         RelaxConfig {
@@ -398,16 +411,10 @@ pub fn relax_resumable(
     let mut full = model.clone();
     full.interactions = Interactions::FULL;
     let coord = coordination(&out.particles, &bx, &full, cfg.contact_tolerance)?;
-    if coord.interacting > cfg.fail_coordination {
+    if let Some(reason) = cfg.collapsed(coord.interacting, out.volume_fraction()) {
         return Err(DemError::RelaxationFailed {
             step: steps2,
-            reason: format!(
-                "the relaxed packing has {:.1} partners per particle within the cohesive range \
-                 (volume fraction {:.3}), above fail_coordination = {}: it collapsed into itself",
-                coord.interacting,
-                out.volume_fraction(),
-                cfg.fail_coordination
-            ),
+            reason,
         });
     }
     let report = RelaxReport {
