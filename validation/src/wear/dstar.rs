@@ -28,7 +28,8 @@ use dem::Parallelism;
 use serde::{Deserialize, Serialize};
 use wear::dstar::{next_step, Bracket, Probe, SearchSettings, Step};
 
-use super::junction::{relaxed_sample, run_junction, JunctionSummary, SampleJob};
+use super::junction::{relaxed_sample, run_junction, JunctionSummary};
+use super::samples::{relax_all, SampleJob};
 use crate::error::{Result, ValidationError};
 use crate::figures::dstar::{draw_outcomes, OutcomeRow};
 
@@ -374,16 +375,11 @@ pub fn run_sizes(
         })
         .collect();
     // The relaxed boxes first, each once, so that no two runs relax the same box at once.
-    let mut box_jobs: Vec<SampleJob> = Vec::new();
-    for j in &jobs {
-        let b = SampleJob::new(&j.junction, material);
-        if !box_jobs.contains(&b) {
-            box_jobs.push(b);
-        }
-    }
-    let records = run_jobs(&samples, &box_jobs, how, |job, dir| {
-        job.relax_into(dir, job_par)
-    })?;
+    let box_jobs: Vec<SampleJob> = jobs
+        .iter()
+        .map(|j| SampleJob::junction(&j.junction, material))
+        .collect();
+    let records = relax_all(&samples, &box_jobs, how, par)?;
     if records.iter().any(|r| r.is_none()) {
         return Err(shard_done(out));
     }

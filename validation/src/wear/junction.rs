@@ -13,9 +13,9 @@ use std::path::Path;
 use calibrate::{MaterialSource, ResolvedMaterial, Units};
 use dem::io::checkpoint::write_atomic;
 use dem::io::progress::{self, ProgressFile};
-use dem::jobs::{run_jobs, JobCache, RunJobs};
+use dem::jobs::JobCache;
 use dem::material::{ForceLaw, PairModel};
-use dem::sample::{make_sample_resumable, RelaxConfig, Sample, SampleSpec};
+use dem::sample::{Sample, SampleSpec};
 use dem::scenario::junction::{run_resumable, JunctionConfig, JunctionResult};
 use dem::Parallelism;
 use serde::{Deserialize, Serialize};
@@ -23,6 +23,7 @@ use wear::outcome::Detachment;
 use wear::Outcome;
 
 use super::json;
+pub use super::samples::{SampleJob, SampleRecord};
 use crate::error::{Result, ValidationError};
 use crate::figures::junction::{draw_force, draw_snapshots};
 
@@ -113,45 +114,14 @@ pub fn recipe(cfg: &JunctionConfig, model: &PairModel) -> SampleSpec {
     }
 }
 
-/// How long the relaxation took, and of what.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct SampleRecord {
-    pub particles: usize,
-    pub seconds: f64,
-    pub converged: bool,
-}
-
-/// What identifies a relaxed box: the recipe, the model and the relaxation (the key of its job).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct SampleJob<'a> {
-    pub recipe: SampleSpec,
-    pub model: &'a PairModel,
-    pub relax: RelaxConfig,
-}
-
 impl<'a> SampleJob<'a> {
     /// The relaxed box of `cfg` for `material` (relaxed as its card requires).
-    pub fn new(cfg: &JunctionConfig, material: &'a ResolvedMaterial) -> Self {
+    pub fn junction(cfg: &JunctionConfig, material: &'a ResolvedMaterial) -> Self {
         SampleJob {
             recipe: recipe(cfg, &material.model),
             model: &material.model,
             relax: material.relax_for(cfg.relax),
         }
-    }
-
-    /// Relaxes the box into `dir` (`sample.json`; an interrupted relaxation resumes from its progress
-    /// file there): the job function of a samples cache.
-    pub fn relax_into(&self, dir: &Path, par: Parallelism) -> Result<SampleRecord> {
-        let t = std::time::Instant::now();
-        let p = ProgressFile::new(dir.join("relax.progress.json"));
-        let sample = make_sample_resumable(&self.recipe, self.model, &self.relax, par, Some(&p))?;
-        sample.save(&dir.join("sample.json"))?;
-        progress::remove(&p.path)?;
-        Ok(SampleRecord {
-            particles: sample.particles.len(),
-            seconds: t.elapsed().as_secs_f64(),
-            converged: sample.relaxation.as_ref().is_some_and(|r| r.converged),
-        })
     }
 }
 
@@ -163,19 +133,7 @@ pub fn relaxed_sample(
     material: &ResolvedMaterial,
     par: Parallelism,
 ) -> Result<(Sample, SampleRecord)> {
-    let job = SampleJob::new(cfg, material);
-    let one = RunJobs {
-        at_once: 1,
-        ..RunJobs::default()
-    };
-    let record = run_jobs(samples, std::slice::from_ref(&job), &one, |j, dir| {
-        j.relax_into(dir, par)
-    })?
-    .pop()
-    .flatten()
-    .expect("a whole-list run returns every result");
-    let dir = samples.dir(&JobCache::key(&job)?)?;
-    Ok((Sample::load(&dir.join("sample.json"))?, record))
+    super::samples::relaxed(samples, &SampleJob::junction(cfg, material), par)
 }
 
 /// The small record of a run that searches and reports keep (the rest stays in its folder).

@@ -1,6 +1,7 @@
 //! Adhesive wear as the workbench's commands run it: a junction run from a config file, with its
 //! relaxed sample cached and its outputs written ([`junction`]), and the search for d* over such runs
-//! ([`dstar`]).
+//! ([`dstar`]); the sliding layer of paper 004 ([`sliding`]); relaxed boxes as jobs that these share
+//! ([`samples`]).
 
 use std::path::Path;
 
@@ -11,6 +12,7 @@ use crate::{Result, ValidationError};
 
 pub mod dstar;
 pub mod junction;
+pub mod samples;
 pub mod sliding;
 
 /// Writes `v` as pretty JSON to `path` atomically (a crash never leaves half a summary).

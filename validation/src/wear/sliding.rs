@@ -1,6 +1,6 @@
 //! One sliding run, or a grid of them, as the workbench runs it (`cgdem sliding CONFIG --out DIR`,
-//! paper 004): the config file, the relaxed sample (relaxed in the run's folder, resumable), the run
-//! (resumable), and its outputs:
+//! paper 004): the config file, the relaxed sample (a job of `DIR/samples/`, resumable, relaxed once
+//! for the run and its strength tests), the run (resumable), and its outputs:
 //! - `summary.json`: `rho_tbl` (over rho_0), `h_tbl` (over H), `p_t`, `p_n`, `regime`, `tau_m` (over
 //!   E, measured on the run's own relaxed box with the patch-test rig unless the config gives it, and
 //!   `tau_m_how`), `p_t_over_tau_m`, with the material (sigma_m, gamma, d*), the cost and the settings;
@@ -14,7 +14,8 @@
 //! The strength tests (tau_m and sigma_t, [`dem::scenario::sliding::measure_strength`]) are jobs of
 //! their own in `DIR/strength/<key>/` (`strength.json`, `strength.csv`, `strength.png`), keyed by
 //! the material and the box only ([`SlidingConfig::material_test`]): the runs of a grid that share a
-//! material share one measurement.
+//! material share one measurement, on the box they slide (one relaxation in `DIR/samples/<key>/`,
+//! [`super::samples`]).
 //!
 //! A grid (`[[grid]]` entries, each a p_N, sigma_m and d*) is a list of [`dem::jobs`] jobs: each run
 //! in `DIR/runs/<key>/` with its own outputs, side by side or sharded, and `DIR/grid.csv`.
@@ -25,7 +26,7 @@ use std::path::Path;
 use dem::io::checkpoint::write_atomic;
 use dem::io::progress::{self, ProgressFile};
 use dem::jobs::{run_jobs, JobCache, RunJobs};
-use dem::sample::make_sample_resumable;
+use dem::material::PairModel;
 use dem::scenario::sliding::{
     measure_strength, run_resumable, MaterialStrength, SlidingConfig, SlidingResult,
 };
@@ -34,6 +35,7 @@ use serde::{Deserialize, Serialize};
 use wear::tbl::Regime;
 
 use super::json;
+use super::samples::{relax_all, relaxed, SampleJob};
 use crate::error::{Result, ValidationError};
 use crate::figures::sliding::{draw_h_tbl, draw_profiles, draw_snapshot, draw_strength};
 
@@ -132,6 +134,8 @@ pub struct SlidingSummary {
     pub dt: f64,
     pub steady_windows: usize,
     pub run_seconds: f64,
+    /// What relaxing the run's box took when it was relaxed (once, in the samples cache, for the run
+    /// and its strength job alike).
     pub relax_seconds: f64,
 }
 
@@ -190,17 +194,20 @@ impl StrengthJob {
     }
 }
 
-/// Relaxes the job's box and measures tau_m and sigma_t in `dir` (resumable from the progress files
-/// there), writing `strength.json`, `strength.csv` and `strength.png`.
+/// Measures tau_m and sigma_t of the job's material in `dir` (resumable from the progress files
+/// there) on its relaxed box from `samples` (the box its runs slide), writing `strength.json`,
+/// `strength.csv` and `strength.png`.
 pub fn run_strength_job(
     job: &StrengthJob,
+    samples: &JobCache,
     dir: &Path,
     par: Parallelism,
 ) -> Result<MaterialStrength> {
     let cfg = &job.sliding;
     cfg.validate()?;
     std::fs::create_dir_all(dir).map_err(|e| ValidationError::io(dir, e))?;
-    let sample = relaxed_box(cfg, &cfg.model()?, dir, par)?;
+    let model = cfg.model()?;
+    let (sample, _) = relaxed(samples, &SampleJob::sliding(cfg, &model)?, par)?;
     let m = measure_strength(&sample, cfg, &cfg.strength_tests, par, Some(dir))?;
     json(&dir.join("strength.json"), &m)?;
     let mut csv = String::from("test,strain,stress,sigma_yy\n");
@@ -222,10 +229,12 @@ pub fn run_strength_job(
 }
 
 /// The shear strength of every run of `runs`: given by its config, or measured as a strength job in
-/// `root` (one job per distinct material, run as `how` says); `None` where another shard's job is
-/// not done yet.
+/// `root` (one job per distinct material, run as `how` says) on the relaxed box from `samples`
+/// (relaxed there first if missing: see [`relax_boxes`]); `None` where another shard's job is not
+/// done yet.
 pub fn shear_strengths(
     runs: &[SlidingConfig],
+    samples: &JobCache,
     root: &Path,
     how: &RunJobs,
     par: Parallelism,
@@ -239,7 +248,7 @@ pub fn shear_strengths(
     }
     let cache = JobCache::new(root);
     let measured = run_jobs(&cache, &jobs, how, |job, dir| {
-        run_strength_job(job, dir, par)
+        run_strength_job(job, samples, dir, par)
     })?;
     Ok(runs
         .iter()
@@ -266,43 +275,69 @@ pub fn run_sliding(
         at_once: 1,
         ..RunJobs::default()
     };
-    let tau = shear_strengths(std::slice::from_ref(cfg), &out.join("strength"), &how, par)?
-        .pop()
-        .flatten()
-        .ok_or_else(|| {
-            ValidationError::Dem(dem::DemError::InvalidConfig(
-                "sliding: the strength job gave no result".into(),
-            ))
-        })?;
-    run_sliding_with(cfg, &tau, out, par, report)
+    let samples = samples_cache(out);
+    let tau = shear_strengths(
+        std::slice::from_ref(cfg),
+        &samples,
+        &out.join("strength"),
+        &how,
+        par,
+    )?
+    .pop()
+    .flatten()
+    .ok_or_else(|| {
+        ValidationError::Dem(dem::DemError::InvalidConfig(
+            "sliding: the strength job gave no result".into(),
+        ))
+    })?;
+    run_sliding_with(cfg, &tau, &samples, out, par, report)
 }
 
-/// The run's box relaxed as in paper 000, resumable through `dir/relax.progress.json` (removed once
-/// done). The strength job and the run each relax the same recipe in their own job directory: the
-/// cache keys differ (the strength job's leaves out p_N and the distance), so neither can read the
-/// other's result.
-fn relaxed_box(
-    cfg: &SlidingConfig,
-    model: &dem::material::PairModel,
-    dir: &Path,
+impl<'a> SampleJob<'a> {
+    /// The relaxed box of a sliding run (or of its material's strength job: the same recipe, model
+    /// and relaxation, so both read one box and it is relaxed once).
+    pub fn sliding(cfg: &SlidingConfig, model: &'a PairModel) -> Result<Self> {
+        Ok(SampleJob {
+            recipe: cfg.recipe()?,
+            model,
+            relax: cfg.relax,
+        })
+    }
+}
+
+/// Where a sliding run or grid in `out` keeps its relaxed boxes.
+pub fn samples_cache(out: &Path) -> JobCache {
+    JobCache::new(out.join("samples"))
+}
+
+/// Relaxes the distinct boxes of `runs` into `samples` (a job list run as `how` says), before their
+/// strength jobs and runs read them. Returns whether every box is there (`false`: another
+/// non-concurrent shard's box is not done yet).
+pub fn relax_boxes(
+    runs: &[SlidingConfig],
+    samples: &JobCache,
+    how: &RunJobs,
     par: Parallelism,
-) -> Result<dem::sample::Sample> {
-    let relax_progress = ProgressFile::new(dir.join("relax.progress.json"));
-    let sample = make_sample_resumable(
-        &cfg.recipe()?,
-        model,
-        &cfg.relax,
-        par,
-        Some(&relax_progress),
-    )?;
-    progress::remove(&relax_progress.path)?;
-    Ok(sample)
+) -> Result<bool> {
+    let models = runs
+        .iter()
+        .map(|c| c.model())
+        .collect::<dem::Result<Vec<_>>>()?;
+    let jobs = runs
+        .iter()
+        .zip(&models)
+        .map(|(c, m)| SampleJob::sliding(c, m))
+        .collect::<Result<Vec<_>>>()?;
+    Ok(relax_all(samples, &jobs, how, par)?
+        .iter()
+        .all(Option::is_some))
 }
 
 /// [`run_sliding`] with the shear strength `tau` already found.
 pub fn run_sliding_with(
     cfg: &SlidingConfig,
     tau: &ShearStrength,
+    samples: &JobCache,
     out: &Path,
     par: Parallelism,
     report: &mut dyn FnMut(u64, u64),
@@ -326,9 +361,8 @@ pub fn run_sliding_with(
             }
         );
     }
-    let t = std::time::Instant::now();
-    let sample = relaxed_box(cfg, &model, out, par)?;
-    let relax_seconds = t.elapsed().as_secs_f64();
+    let (sample, relaxation) = relaxed(samples, &SampleJob::sliding(cfg, &model)?, par)?;
+    let relax_seconds = relaxation.seconds;
     let run_progress = ProgressFile::new(out.join("sliding.progress.json"));
     let dump = (cfg.dump_frames > 0).then(|| out.join("sliding.dump"));
     let r = run_resumable(
@@ -374,29 +408,50 @@ pub fn run_sliding_with(
     Ok(summary)
 }
 
-/// Runs every config of a grid as cached jobs under `out/runs/` and writes `out/grid.csv`; `None`
-/// where another (non-concurrent) shard's job is not done yet.
+/// Runs every config of a grid as cached jobs under `out/runs/` (their relaxed boxes in
+/// `out/samples/`, their strength jobs in `out/strength/`) and writes `out/grid.csv`; `None` where
+/// another (non-concurrent) shard's job is not done yet.
 pub fn run_grid(
     runs: &[SlidingConfig],
     out: &Path,
     how: &RunJobs,
 ) -> Result<Vec<Option<SlidingSummary>>> {
-    let taus = shear_strengths(runs, &out.join("strength"), how, Parallelism::Sequential)?;
-    let cache = JobCache::new(out.join("runs"));
-    let results = run_jobs(&cache, runs, how, |cfg, dir| {
-        let k = runs
-            .iter()
-            .position(|c| c == cfg)
-            .expect("a run of the list");
-        let tau = taus[k].as_ref().ok_or_else(|| {
-            ValidationError::Dem(dem::DemError::InvalidConfig(
-                "sliding grid: this shard's run needs a strength job that another shard has not \
-                 finished; rerun once it has"
-                    .into(),
-            ))
-        })?;
-        run_sliding_with(cfg, tau, dir, Parallelism::Sequential, &mut |_, _| {})
-    })?;
+    let samples = samples_cache(out);
+    // Boxes, then strength jobs, then runs, each a job list: a stage waits for the one before it (a
+    // Slurm array's task that finds another task's box missing leaves its runs pending).
+    let results = if relax_boxes(runs, &samples, how, Parallelism::Sequential)? {
+        let taus = shear_strengths(
+            runs,
+            &samples,
+            &out.join("strength"),
+            how,
+            Parallelism::Sequential,
+        )?;
+        let cache = JobCache::new(out.join("runs"));
+        run_jobs(&cache, runs, how, |cfg, dir| {
+            let k = runs
+                .iter()
+                .position(|c| c == cfg)
+                .expect("a run of the list");
+            let tau = taus[k].as_ref().ok_or_else(|| {
+                ValidationError::Dem(dem::DemError::InvalidConfig(
+                    "sliding grid: this shard's run needs a strength job that another shard has \
+                     not finished; rerun once it has"
+                        .into(),
+                ))
+            })?;
+            run_sliding_with(
+                cfg,
+                tau,
+                &samples,
+                dir,
+                Parallelism::Sequential,
+                &mut |_, _| {},
+            )
+        })?
+    } else {
+        vec![None; runs.len()]
+    };
     let mut csv = String::from(
         "p_n,strength,d_star,rho_tbl,h_tbl,p_t,tau_m,p_t_over_tau_m,p_t_over_tau_rho,tau_flow,p_t_over_tau_flow,regime,particles,run_seconds,key\n",
     );

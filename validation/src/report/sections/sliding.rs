@@ -17,6 +17,7 @@ use super::super::html::{esc, png_img};
 use crate::report::{
     Claim, Context, Figure, Kind, Panel, Profile, Section, SectionOutput, Tolerance,
 };
+use crate::wear::samples::SampleJob;
 use crate::wear::sliding::{
     run_sliding_with, run_strength_job, ShearStrength, SlidingSummary, StrengthJob,
 };
@@ -113,6 +114,22 @@ fn cases(profile: Profile) -> Vec<RunCase> {
 
 fn run(ctx: &Context) -> Result<SectionOutput> {
     let cases = cases(ctx.profile);
+    // The relaxed boxes first, each once: a strength job and the runs of its material slide and
+    // shear the same box, read from the report's cache.
+    let models = cases
+        .iter()
+        .map(|c| c.sliding.model())
+        .collect::<dem::Result<Vec<_>>>()?;
+    let mut boxes: Vec<SampleJob> = Vec::new();
+    for (c, m) in cases.iter().zip(&models) {
+        let b = SampleJob::sliding(&c.sliding, m)?;
+        if !boxes.contains(&b) {
+            boxes.push(b);
+        }
+    }
+    ctx.jobs("sliding boxes", &boxes, |job, dir, par| {
+        job.relax_into(dir, par)
+    })?;
     let mut jobs: Vec<StrengthJob> = Vec::new();
     for c in &cases {
         let j = StrengthJob::of(&c.sliding);
@@ -122,7 +139,7 @@ fn run(ctx: &Context) -> Result<SectionOutput> {
     }
     let strengths: Vec<StrengthOut> =
         ctx.jobs("sliding strength tests", &jobs, |job, dir, par| {
-            let strength = run_strength_job(job, dir, par)?;
+            let strength = run_strength_job(job, &ctx.cache, dir, par)?;
             let what = format!("sigma_m = {} E", job.sliding.material.strength);
             Ok(StrengthOut {
                 strength,
@@ -141,7 +158,7 @@ fn run(ctx: &Context) -> Result<SectionOutput> {
     };
     let outs: Vec<RunOut> = ctx.jobs("sliding runs", &cases, |case, dir, par| {
         let tau = tau_of(&case.sliding);
-        let summary = run_sliding_with(&case.sliding, &tau, dir, par, &mut |_, _| {})?;
+        let summary = run_sliding_with(&case.sliding, &tau, &ctx.cache, dir, par, &mut |_, _| {})?;
         let what = format!(
             "p_N = {} E, sigma_m = {} E",
             case.sliding.pressure, case.sliding.material.strength

@@ -1,0 +1,135 @@
+//! `cgdem sliding` on a grid, as a process: the grid's relaxed boxes are jobs of their own, one per
+//! material, which the material's strength job and every run of it read (each box relaxed once), and a
+//! rerun finds everything cached.
+
+mod common;
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use common::scratch;
+
+fn cgdem(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_cgdem"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+/// Two runs of one material (p_N 0.01 and 0.02 E) and one of a stronger material: two boxes. L = 10 d0
+/// (a few hundred particles), 0.3 L of sliding, a short shear test: the plumbing, not the physics.
+const GRID: &str = r#"
+[sliding]
+d0_over_l = 0.1
+distance_over_l = 0.3
+bins = 20
+windows = 3
+samples_per_window = 4
+force_samples = 30
+dump_frames = 0
+
+# The shear test stopped 0.1 strain past its peak (no flow stress): the strengths, not the flow.
+[sliding.strength_tests.shear]
+mode = "shear"
+post_peak_strain = 0.1
+max_strain = 0.5
+
+[[grid]]
+pressure = 0.01
+strength = 0.1
+d_star = 0.4
+
+[[grid]]
+pressure = 0.02
+strength = 0.1
+d_star = 0.4
+
+[[grid]]
+pressure = 0.01
+strength = 0.2
+d_star = 0.4
+"#;
+
+/// The job folders under `dir` that hold a result.
+fn done_jobs(dir: &Path) -> Vec<std::path::PathBuf> {
+    let mut v: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.join("result.json").exists())
+        .collect();
+    v.sort();
+    v
+}
+
+/// Every file under `dir` whose name is `name`.
+fn find(dir: &Path, name: &str, found: &mut Vec<std::path::PathBuf>) {
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            find(&p, name, found);
+        } else if p.file_name().is_some_and(|n| n == name) {
+            found.push(p);
+        }
+    }
+}
+
+#[test]
+fn a_grid_relaxes_each_box_once_for_its_strength_job_and_its_runs() {
+    let dir = scratch("sliding-grid");
+    let cfg = dir.join("grid.toml");
+    std::fs::write(&cfg, GRID).unwrap();
+    let out = dir.join("out");
+    let args = [
+        "sliding",
+        cfg.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--jobs",
+        "2",
+    ];
+    let o = cgdem(&args);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stdout).contains("3 of 3 runs done"),
+        "{}",
+        text(&o.stdout)
+    );
+    // One box per material, each a finished job with its sample; no relaxation anywhere else.
+    let boxes = done_jobs(&out.join("samples"));
+    assert_eq!(boxes.len(), 2, "{boxes:?}");
+    for b in &boxes {
+        assert!(b.join("sample.json").exists(), "{b:?}");
+    }
+    let mut samples = Vec::new();
+    find(&out, "sample.json", &mut samples);
+    assert_eq!(samples.len(), 2, "{samples:?}");
+    let mut progress = Vec::new();
+    find(&out, "relax.progress.json", &mut progress);
+    assert!(progress.is_empty(), "{progress:?}");
+    assert_eq!(done_jobs(&out.join("strength")).len(), 2);
+    let runs = done_jobs(&out.join("runs"));
+    assert_eq!(runs.len(), 3);
+    // The two runs of the weaker material read one box: the same relaxation record, to the bit, and
+    // the same particle count as the strength job measured on.
+    let summary = |p: &Path| -> serde_json::Value {
+        serde_json::from_slice(&std::fs::read(p.join("summary.json")).unwrap()).unwrap()
+    };
+    let s: Vec<serde_json::Value> = runs.iter().map(|r| summary(r)).collect();
+    let weak: Vec<&serde_json::Value> = s.iter().filter(|v| v["strength"] == 0.1).collect();
+    assert_eq!(weak.len(), 2);
+    assert_eq!(weak[0]["relax_seconds"], weak[1]["relax_seconds"]);
+    assert_eq!(weak[0]["tau_m"], weak[1]["tau_m"]);
+    assert_ne!(weak[0]["p_n"], weak[1]["p_n"]);
+    let csv = std::fs::read_to_string(out.join("grid.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 4, "{csv}");
+    assert!(!csv.contains("pending"), "{csv}");
+    // A rerun computes nothing: the same grid, no new box.
+    let again = cgdem(&args);
+    assert!(again.status.success(), "{}", text(&again.stderr));
+    assert_eq!(std::fs::read_to_string(out.join("grid.csv")).unwrap(), csv);
+    assert_eq!(done_jobs(&out.join("samples")), boxes);
+}
