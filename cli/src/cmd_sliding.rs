@@ -3,7 +3,8 @@
 //! grid (`[[grid]]` entries) relaxes each material's box once in `DIR/samples/`, measures each
 //! material's strength in `DIR/strength/`, and runs its points as cached jobs in `DIR/runs/` side by
 //! side (`--jobs`), under `mpirun -np N` / `srun` (each rank its share) or as a Slurm array
-//! (`--shard i/n`), and writes `DIR/grid.csv`. Rerunning after Ctrl-C or a crash continues every run from its progress file.
+//! (`--shard i/n`), and writes `DIR/grid.csv`. Rerunning after Ctrl-C or a crash continues every run
+//! from its progress file.
 
 use std::path::PathBuf;
 
