@@ -9,6 +9,7 @@
 
 use std::path::{Path, PathBuf};
 
+use dem::io::Sig;
 use dem::scenario::patch::PatchReport;
 
 use super::chart::{keyed_figure, panel, Mark, Scale, Series};
@@ -286,14 +287,15 @@ fn draw_trends(path: &Path, t: &Trends) -> Result<()> {
     root.present().map_err(|e| draw_err(path, e))
 }
 
-/// "case k: nu = .., d0 = .. d_c, s = .." from what the case varies.
+/// "case k: nu = .., d0 = .. d_c, s = .." from what the case varies, to four significant digits (a
+/// d0 derived from nanometres, 1.7534246575342467 d_c, reads 1.753 d_c; the report keeps every digit).
 fn case_label(report: &PatchReport, k: usize) -> String {
     let c = &report.cases[k];
-    let mut s = format!("case {k}: nu = {}", c.poisson_ratio);
+    let mut s = format!("case {k}: nu = {}", Sig(c.poisson_ratio, 4));
     if let Some(d) = c.d0_over_dc {
-        s += &format!(", d0 = {d} d_c");
+        s += &format!(", d0 = {} d_c", Sig(d, 4));
     }
-    s + &format!(", s = {}", c.scaling)
+    s + &format!(", s = {}", Sig(c.scaling, 4))
 }
 
 /// Reads two columns of a curve CSV (header line first).
