@@ -10,7 +10,7 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use common::{scratch, venv_or_fail};
+use common::{scratch, text, venv_or_fail};
 
 fn cgdem(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_cgdem"))
@@ -18,10 +18,6 @@ fn cgdem(args: &[&str]) -> Output {
         .env("CGDEM_VENV", md_bridge::Venv::locate().root)
         .output()
         .unwrap()
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
 }
 
 /// The small DEM search: 36 x 36 x 24 nm at d0 = 6 nm, D = 12 and 14 nm, one round.

@@ -5,20 +5,9 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Command;
 
-use common::{scratch, venv_or_fail};
-
-fn cgdem(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_cgdem"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
+use common::{cgdem, scratch, text, venv_or_fail};
 
 /// A small box of the paper's silica recipe at d0 = 6 nm (36 x 30 x 24 nm), 1 ns of sliding.
 const SMALL: &str = r#"

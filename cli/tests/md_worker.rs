@@ -7,6 +7,8 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use common::text;
+
 fn scratch(name: &str) -> PathBuf {
     common::scratch(&format!("md-test-{name}"))
 }
@@ -17,10 +19,6 @@ fn cgdem(args: &[&str]) -> Output {
         .args(args)
         .output()
         .expect("cannot start cgdem")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
 }
 
 /// A 500-atom LJ run of `steps` steps (the melt of `cgdem bench-md`, 5^3 fcc cells) that leaves

@@ -4,21 +4,8 @@
 
 mod common;
 
+use common::{cgdem, scratch, text};
 use std::path::Path;
-use std::process::{Command, Output};
-
-use common::scratch;
-
-fn cgdem(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_cgdem"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
 
 /// Two runs of one material (p_N 0.01 and 0.02 E) and one of a stronger material: two boxes. L = 10 d0
 /// (a few hundred particles), 0.3 L of sliding, a short shear test: the plumbing, not the physics.

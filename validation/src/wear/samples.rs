@@ -80,16 +80,24 @@ pub fn relax_all(
     how: &RunJobs,
     par: Parallelism,
 ) -> Result<Vec<Option<SampleRecord>>> {
-    let mut distinct: Vec<&SampleJob> = Vec::new();
-    for j in jobs {
-        if !distinct.contains(&j) {
-            distinct.push(j);
-        }
-    }
     let par = if how.at_once > 1 {
         Parallelism::Sequential
     } else {
         par
     };
-    run_jobs(samples, &distinct, how, |job, dir| job.relax_into(dir, par))
+    run_jobs(samples, &distinct(jobs), how, |job, dir| {
+        job.relax_into(dir, par)
+    })
+}
+
+/// The boxes of `jobs`, each once, in order of first appearance (runs that share a box list it
+/// once; the job list of a cache must not hold one key twice).
+pub fn distinct<'b, 'a>(jobs: &'b [SampleJob<'a>]) -> Vec<&'b SampleJob<'a>> {
+    let mut out: Vec<&SampleJob> = Vec::new();
+    for j in jobs {
+        if !out.contains(&j) {
+            out.push(j);
+        }
+    }
+    out
 }

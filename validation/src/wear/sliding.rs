@@ -310,6 +310,20 @@ pub fn samples_cache(out: &Path) -> JobCache {
     JobCache::new(out.join("samples"))
 }
 
+/// The pair model of each of `runs` (what their boxes' jobs borrow).
+pub fn models(runs: &[SlidingConfig]) -> Result<Vec<PairModel>> {
+    Ok(runs.iter().map(|c| c.model()).collect::<dem::Result<_>>()?)
+}
+
+/// The box job of each of `runs`, with `models` from [`models`] (runs of one material repeat a box:
+/// [`super::samples::distinct`] lists each once).
+pub fn box_jobs<'a>(runs: &[SlidingConfig], models: &'a [PairModel]) -> Result<Vec<SampleJob<'a>>> {
+    runs.iter()
+        .zip(models)
+        .map(|(c, m)| SampleJob::sliding(c, m))
+        .collect()
+}
+
 /// Relaxes the distinct boxes of `runs` into `samples` (a job list run as `how` says), before their
 /// strength jobs and runs read them. Returns whether every box is there (`false`: another
 /// non-concurrent shard's box is not done yet).
@@ -319,16 +333,8 @@ pub fn relax_boxes(
     how: &RunJobs,
     par: Parallelism,
 ) -> Result<bool> {
-    let models = runs
-        .iter()
-        .map(|c| c.model())
-        .collect::<dem::Result<Vec<_>>>()?;
-    let jobs = runs
-        .iter()
-        .zip(&models)
-        .map(|(c, m)| SampleJob::sliding(c, m))
-        .collect::<Result<Vec<_>>>()?;
-    Ok(relax_all(samples, &jobs, how, par)?
+    let models = models(runs)?;
+    Ok(relax_all(samples, &box_jobs(runs, &models)?, how, par)?
         .iter()
         .all(Option::is_some))
 }

@@ -17,9 +17,10 @@ use super::super::html::{esc, png_img};
 use crate::report::{
     Claim, Context, Figure, Kind, Panel, Profile, Section, SectionOutput, Tolerance,
 };
-use crate::wear::samples::SampleJob;
+use crate::wear::samples::distinct;
 use crate::wear::sliding::{
-    run_sliding_with, run_strength_job, ShearStrength, SlidingSummary, StrengthJob,
+    box_jobs, models, run_sliding_with, run_strength_job, ShearStrength, SlidingSummary,
+    StrengthJob,
 };
 use crate::Result;
 use dem::scenario::sliding::MaterialStrength;
@@ -116,18 +117,10 @@ fn run(ctx: &Context) -> Result<SectionOutput> {
     let cases = cases(ctx.profile);
     // The relaxed boxes first, each once: a strength job and the runs of its material slide and
     // shear the same box, read from the report's cache.
-    let models = cases
-        .iter()
-        .map(|c| c.sliding.model())
-        .collect::<dem::Result<Vec<_>>>()?;
-    let mut boxes: Vec<SampleJob> = Vec::new();
-    for (c, m) in cases.iter().zip(&models) {
-        let b = SampleJob::sliding(&c.sliding, m)?;
-        if !boxes.contains(&b) {
-            boxes.push(b);
-        }
-    }
-    ctx.jobs("sliding boxes", &boxes, |job, dir, par| {
+    let runs: Vec<SlidingConfig> = cases.iter().map(|c| c.sliding.clone()).collect();
+    let models = models(&runs)?;
+    let boxes = box_jobs(&runs, &models)?;
+    ctx.jobs("sliding boxes", &distinct(&boxes), |job, dir, par| {
         job.relax_into(dir, par)
     })?;
     let mut jobs: Vec<StrengthJob> = Vec::new();
