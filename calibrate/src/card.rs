@@ -19,12 +19,11 @@
 
 use std::path::Path;
 
-use dem::material::PairModel;
+use dem::material::{PairModel, SiMaterial};
 use dem::sample::RelaxConfig;
 use dem::sample::SampleSpec;
 use serde::{Deserialize, Serialize};
 
-use crate::config::SiMaterial;
 use crate::error::{CalibrateError, Result};
 use crate::executor::Status;
 use crate::patch_problem::{Properties, TestSettings};

@@ -3,7 +3,7 @@
 //! first guess, solver settings and patch-test settings. Unreachable targets are refused here, before
 //! any simulation.
 
-use dem::material::{ForceLaw, Material, PairModel, ParamScale};
+use dem::material::{ForceLaw, Material, PairModel, ParamScale, SiMaterial, DEFAULT_SCALING};
 use dem::sample::RelaxConfig;
 use dem::sample::SampleSpec;
 use dem::UnitSystem;
@@ -16,73 +16,17 @@ use crate::executor::Settings;
 use crate::patch_problem::{Target, TestSettings, Unknown};
 use crate::recipe::{recipe_samples, RecipeSettings, VerifySettings};
 
-/// Target properties in SI units: the `[material]` table of the card `cgdem md silica` writes
-/// (md-bridge/src/card.rs), plus the scaling exponent s.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SiMaterial {
-    /// Free-text name (e.g. "silica"); default none.
-    #[serde(default)]
-    pub name: Option<String>,
-    /// Pa.
-    pub young_modulus: f64,
-    pub poisson_ratio: f64,
-    /// Pa.
-    pub tensile_strength: f64,
-    /// Pa.
-    pub shear_strength: f64,
-    /// J/m^2.
-    pub surface_energy: f64,
-    pub restitution: f64,
-    /// kg/m^3.
-    pub density: f64,
-    /// Exponent s of eq (10); default 0.5 (paper 000 section 4: constant gamma for silica).
-    #[serde(default = "half")]
-    pub scaling: f64,
+/// The `[material]` table of the material card at `path` (what `cgdem md silica` writes): the shared
+/// [`SiMaterial`], whose scaling exponent is the file's or, where it names none (an MD card), 1/2.
+pub fn card_material(path: &Path) -> Result<SiMaterial> {
+    let text = std::fs::read_to_string(path).map_err(|e| CalibrateError::io(path, e))?;
+    toml::from_str::<CardFile>(&text)
+        .map(|card| card.material)
+        .map_err(|e| CalibrateError::format(path, e))
 }
 
 fn half() -> f64 {
-    0.5
-}
-
-impl SiMaterial {
-    /// Engine-unit material in `u` (the only place SI numbers enter the engine).
-    pub fn to_engine(&self, u: UnitSystem) -> Material {
-        Material {
-            young_modulus: u.stress_from_pa(self.young_modulus),
-            poisson_ratio: self.poisson_ratio,
-            tensile_strength: u.stress_from_pa(self.tensile_strength),
-            shear_strength: u.stress_from_pa(self.shear_strength),
-            surface_energy: u.surface_energy_from_si(self.surface_energy),
-            restitution: self.restitution,
-            density: u.density_from_si(self.density),
-            scaling: self.scaling,
-        }
-    }
-
-    /// The `[material]` table of the material card at `path`; its scaling exponent is the file's, or
-    /// the default 0.5 (an MD card has none).
-    pub fn from_card(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| CalibrateError::io(path, e))?;
-        toml::from_str::<CardFile>(&text)
-            .map(|card| card.material)
-            .map_err(|e| CalibrateError::format(path, e))
-    }
-
-    /// Paper 000 Table 5 (amorphous silica).
-    pub fn table5() -> Self {
-        SiMaterial {
-            name: Some("silica (paper 000 Table 5)".into()),
-            young_modulus: 73e9,
-            poisson_ratio: 0.17,
-            tensile_strength: 16e9,
-            shear_strength: 9e9,
-            surface_energy: 1.5,
-            restitution: 0.9,
-            density: 2200.0,
-            scaling: 0.5,
-        }
-    }
+    DEFAULT_SCALING
 }
 
 /// An MD material card used as the calibration target.
@@ -98,7 +42,7 @@ pub struct CardRef {
 }
 
 /// The part of a material card the calibration reads: its `[material]` table is an [`SiMaterial`]
-/// without the scaling exponent (the card's other tables, such as its provenance, stay with the card).
+/// (an MD card's has no scaling exponent; its other tables, such as the provenance, stay with the card).
 #[derive(Debug, Deserialize)]
 struct CardFile {
     material: SiMaterial,
@@ -205,8 +149,8 @@ impl CalibrationConfig {
                 ));
             }
             let card_path = path.parent().unwrap_or(Path::new(".")).join(&card.path);
-            let mut m = SiMaterial::from_card(&card_path)?;
-            m.scaling = card.scaling;
+            let mut m = card_material(&card_path)?;
+            m.scaling = Some(card.scaling);
             cfg.material_si = Some(m);
         }
         Ok(cfg)
@@ -216,7 +160,7 @@ impl CalibrationConfig {
     pub fn prepare(&self) -> Result<Prepared> {
         let (target, units) = match (&self.material, &self.material_si) {
             (Some(m), None) => (m.clone(), UnitSystem::REDUCED),
-            (None, Some(si)) => (si.to_engine(UnitSystem::NANO), UnitSystem::NANO),
+            (None, Some(si)) => (Material::from_si(si, UnitSystem::NANO), UnitSystem::NANO),
             _ => {
                 return Err(CalibrateError::InvalidConfig(
                     "give exactly one of [material] (engine units), [material_si] (SI) and \

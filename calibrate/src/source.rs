@@ -14,13 +14,13 @@
 
 use std::path::{Path, PathBuf};
 
-use dem::material::{ForceLaw, Material, PairModel};
+use dem::material::{ForceLaw, Material, PairModel, SiMaterial, DEFAULT_SCALING};
 use dem::scenario::monolayer::MonolayerMaterial;
 use dem::UnitSystem;
 use serde::{Deserialize, Serialize};
 
 use crate::card::CalibratedCard;
-use crate::config::SiMaterial;
+use crate::config::card_material;
 use crate::error::{CalibrateError, Result};
 
 /// The unit system a scenario config works in.
@@ -167,15 +167,15 @@ impl MaterialSource {
         if let Some(Preset::Table5) = self.preset {
             si_units("preset table5")?;
             return closed(
-                SiMaterial::table5().to_engine(units.system()),
+                Material::from_si(&SiMaterial::table5(), units.system()),
                 "paper 000 Table 5 silica, closed-form parameters (eqs 7-13)".into(),
             );
         }
         if let Some(si) = &self.si {
             si_units("[material.si]")?;
-            let name = si.name.clone().unwrap_or_else(|| "SI material".into());
+            let name = si.name_or("SI material");
             return closed(
-                si.to_engine(units.system()),
+                Material::from_si(si, units.system()),
                 format!("{name}, closed-form parameters (eqs 7-13)"),
             );
         }
@@ -208,10 +208,10 @@ impl MaterialSource {
         if let Some(p) = &self.md_card {
             si_units("an MD material card")?;
             let path = base.join(p);
-            let mut si = SiMaterial::from_card(&path)?;
-            si.scaling = self.scaling.unwrap_or(0.5);
+            let mut si = card_material(&path)?;
+            si.scaling = Some(self.scaling.unwrap_or(DEFAULT_SCALING));
             return closed(
-                si.to_engine(units.system()),
+                Material::from_si(&si, units.system()),
                 format!(
                     "MD material card {}, closed-form parameters (eqs 7-13)",
                     path.display()

@@ -15,6 +15,7 @@ use dem::jobs::JobCache;
 use dem::material::{Material, PairModel};
 use dem::sample::{RelaxConfig, SampleSpec};
 use serde::{Deserialize, Serialize};
+use wear::scales::critical_junction_size;
 
 use crate::error::{CalibrateError, Result};
 use crate::patch_problem::{measure_on, target_value, Properties, Target, TestSettings};
@@ -121,11 +122,6 @@ impl Verification {
     pub fn failures(&self) -> usize {
         self.samples.iter().filter(|s| s.failure.is_some()).count()
     }
-}
-
-/// Critical junction size d* = 32 gamma G / sigma_T^2, G = E / (2 (1 + nu)) (paper 000 eq 22).
-pub fn critical_junction_size(gamma: f64, e: f64, nu: f64, sigma_t: f64) -> f64 {
-    32.0 * gamma * e / (2.0 * (1.0 + nu)) / (sigma_t * sigma_t)
 }
 
 /// What one verification job stores.

@@ -3,7 +3,8 @@
 
 use std::path::PathBuf;
 
-use calibrate::{CalibrateError, CalibrationConfig, SiMaterial};
+use calibrate::{CalibrateError, CalibrationConfig};
+use dem::material::SiMaterial;
 
 /// A card in the layout md-bridge writes (`md-bridge/src/card.rs`), provenance included.
 const CARD: &str = r#"[material]
@@ -63,7 +64,7 @@ fn a_card_is_read_relative_to_the_config_and_equals_material_si() {
         surface_energy: 1.486966960671157,
         restitution: 0.9,
         density: 2536.6116298195216,
-        scaling: 0.5,
+        scaling: Some(0.5),
     };
     assert_eq!(si, want);
     // The same target as writing the numbers into [material_si] by hand.

@@ -43,7 +43,7 @@ fn normal_only_law_cannot_leave_a_quarter() {
 #[test]
 fn bad_inputs_are_errors_not_panics() {
     let mut c = cfg("cohesive", 0.15, "");
-    c.material_si = Some(calibrate::SiMaterial::table5());
+    c.material_si = Some(dem::material::SiMaterial::table5());
     assert!(matches!(refused(&c), CalibrateError::InvalidConfig(_)));
     let e = refused(&cfg("cohesive", 0.15, "targets = []"));
     assert!(matches!(e, CalibrateError::InvalidConfig(_)), "{e}");

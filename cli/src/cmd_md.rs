@@ -3,7 +3,7 @@
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand};
-use md_bridge::card::{compare_with_table5, Material, MaterialCard, Provenance};
+use md_bridge::card::{compare_with_table5, MaterialCard, Provenance, SiMaterial};
 use md_bridge::job::{run_job, Job, JobOutput, JobRecord, RunOptions};
 use md_bridge::silica::{SilicaConfig, SilicaResult};
 use md_bridge::Venv;
@@ -237,7 +237,7 @@ fn silica(config: Option<&Path>, out: &Path, l: &Launch) -> Result<()> {
     print_summary(res, &cfg);
     if res.tension.is_some() || res.shear.is_some() {
         let path = out.join("silica.png");
-        let t5 = md_bridge::card::Material::table5();
+        let t5 = SiMaterial::table5();
         let reference = (t5.tensile_strength, t5.shear_strength);
         validation::figures::md::draw(&path, res.tension.as_ref(), res.shear.as_ref(), reference)
             .context("drawing the loading curves (silica.json above is complete)")?;
@@ -315,8 +315,8 @@ fn annealed_planes(r: &SilicaResult) -> String {
 fn card(r: &SilicaResult, rec: &JobRecord, cfg: &SilicaConfig) -> Option<MaterialCard> {
     let p = &rec.provenance;
     Some(MaterialCard {
-        material: Material {
-            name: "amorphous silica (LAMMPS SiO.1990.vashishta)".into(),
+        material: SiMaterial {
+            name: Some("amorphous silica (LAMMPS SiO.1990.vashishta)".into()),
             young_modulus: r.young_modulus,
             poisson_ratio: r.poisson_ratio,
             tensile_strength: r.tension.as_ref()?.peak_stress,
@@ -324,6 +324,8 @@ fn card(r: &SilicaResult, rec: &JobRecord, cfg: &SilicaConfig) -> Option<Materia
             surface_energy: r.surface_energy?,
             restitution: 0.9,
             density: r.density,
+            // Eq (10)'s exponent belongs to the discretisation, not to the glass: left to the user.
+            scaling: None,
         },
         provenance: Provenance {
             source: "cgdem md silica (md-bridge, LAMMPS via PyO3, worker process)".into(),

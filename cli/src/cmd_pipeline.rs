@@ -12,7 +12,7 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use calibrate::{CalibrationConfig, SiMaterial};
+use calibrate::{card_material, CalibrationConfig};
 use clap::Args;
 use dem::material::Material;
 use dem::sample::SampleSpec;
@@ -53,10 +53,13 @@ fn config(args: &PipelineArgs) -> Result<CalibrationConfig> {
         }
         Some(path) => {
             let mut cfg = CalibrationConfig::from_toml(SILICA)?;
-            let mut m = SiMaterial::from_card(path)
+            let mut m = card_material(path)
                 .with_context(|| format!("reading the material card {}", path.display()))?;
-            // The card's own exponent, or the junction's s = 1/2 when it has none (an MD card).
-            m.scaling = cfg.material_si.as_ref().map_or(m.scaling, |t| t.scaling);
+            // The card's own exponent, or the silica recipe's (the junction's s = 1/2) when it
+            // has none (an MD card).
+            m.scaling = m
+                .scaling
+                .or_else(|| cfg.material_si.as_ref().and_then(|t| t.scaling));
             cfg.material_si = Some(m);
             cfg
         }

@@ -40,7 +40,7 @@ pub use domain::{BoxControl, SimBox};
 pub use energy::EnergyLedger;
 pub use error::{DemError, Result};
 pub use material::{
-    DampingModel, ForceLaw, Interactions, Material, PairModel, PairParams, ParamScale,
+    DampingModel, ForceLaw, Interactions, Material, PairModel, PairParams, ParamScale, SiMaterial,
 };
 pub use sim::{Parallelism, RunConfig, Simulation, TimeStep};
 pub use state::Particles;

@@ -20,8 +20,11 @@
 //! energy 1/2 k_N delta_f^2 equals 2 gamma A_N.
 
 use serde::{Deserialize, Serialize};
+pub use wear::material::{SiMaterial, DEFAULT_SCALING};
+use wear::scales::{self, LengthScales};
 
 use crate::error::{not_positive, DemError, Result};
+use crate::units::UnitSystem;
 
 /// Target macroscopic properties of the material to model (paper 000 Table 3), in engine units.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -62,15 +65,44 @@ impl Material {
         }
     }
 
+    /// The material `si` (SI units) in the engine's units `u`, with its exponent s of eq (10) (1/2
+    /// where it names none): the one place SI numbers enter the engine.
+    pub fn from_si(si: &SiMaterial, u: UnitSystem) -> Self {
+        Material {
+            young_modulus: u.stress_from_pa(si.young_modulus),
+            poisson_ratio: si.poisson_ratio,
+            tensile_strength: u.stress_from_pa(si.tensile_strength),
+            shear_strength: u.stress_from_pa(si.shear_strength),
+            surface_energy: u.surface_energy_from_si(si.surface_energy),
+            restitution: si.restitution,
+            density: u.density_from_si(si.density),
+            scaling: si.scaling(),
+        }
+    }
+
     /// Critical diameter d_c = 4 gamma E / sigma_N^2 (eq 18).
     pub fn critical_diameter(&self) -> f64 {
-        4.0 * self.surface_energy * self.young_modulus
-            / (self.tensile_strength * self.tensile_strength)
+        scales::critical_diameter(
+            self.surface_energy,
+            self.young_modulus,
+            self.tensile_strength,
+        )
     }
 
     /// Minimum sensible particle diameter d_min = 4 gamma / sigma_N (eq 19), the largest delta_f.
     pub fn min_diameter(&self) -> f64 {
-        4.0 * self.surface_energy / self.tensile_strength
+        scales::min_diameter(self.surface_energy, self.tensile_strength)
+    }
+
+    /// d_min, d_c and d* (eqs 19, 18, 22) in the material's units.
+    pub fn length_scales(&self) -> LengthScales {
+        scales::length_scales(
+            self.young_modulus,
+            self.poisson_ratio,
+            self.tensile_strength,
+            self.shear_strength,
+            self.surface_energy,
+        )
     }
 
     /// Shear modulus G = E / (2 (1 + nu)).
@@ -532,23 +564,19 @@ mod tests {
     }
 
     #[test]
-    fn silica_table5_derived_sizes_match_paper() {
-        let m = Material {
-            young_modulus: 73e9,
-            poisson_ratio: 0.17,
-            tensile_strength: 16e9,
-            shear_strength: 9e9,
-            surface_energy: 1.5,
-            restitution: 0.9,
-            density: 2200.0,
-            scaling: 0.5,
-        };
+    fn silica_table5_in_nano_units_keeps_the_papers_sizes() {
+        // Paper 000 section 4: d_min = 0.37 nm, d_c = 1.7 nm, d* = 18.5 nm, whatever the units.
+        let u = UnitSystem::NANO;
+        let m = Material::from_si(&SiMaterial::table5(), u);
+        assert_eq!(m.scaling, 0.5);
+        assert!(rel(u.stress_to_pa(m.young_modulus), 73e9) < 1e-12);
+        assert!(rel(u.surface_energy_to_si(m.surface_energy), 1.5) < 1e-12);
+        let (l, si) = (m.length_scales(), SiMaterial::table5().length_scales());
+        assert!(rel(u.length_to_m(l.d_min), si.d_min) < 1e-12, "{l:?}");
+        assert!(rel(u.length_to_m(l.d_c), si.d_c) < 1e-12, "{l:?}");
+        assert!(rel(u.length_to_m(l.d_star), si.d_star) < 1e-12, "{l:?}");
         assert!(
-            (m.min_diameter() - 0.375e-9).abs() < 0.01e-9,
-            "d_min = 0.37 nm"
-        );
-        assert!(
-            (m.critical_diameter() - 1.71e-9).abs() < 0.01e-9,
+            (u.length_to_m(l.d_c) - 1.71e-9).abs() < 0.01e-9,
             "d_c = 1.7 nm"
         );
     }

@@ -2,24 +2,14 @@
 //! at its velocity and carries the normal load), thread-count independence, the outputs' consistency,
 //! and the refusals of impossible geometries.
 
-use dem::material::{Material, PairModel};
+use dem::material::{Material, PairModel, SiMaterial};
 use dem::sample::{make_sample, RelaxConfig, Sample, SampleSpec};
 use dem::scenario::junction::{build, run, JunctionConfig, JunctionResult};
 use dem::{DemError, Parallelism, UnitSystem};
 
 /// Paper 000 Table 5 silica in nano units (nm, ns, ag: MPa).
 fn silica() -> Material {
-    let u = UnitSystem::NANO;
-    Material {
-        young_modulus: u.stress_from_pa(73e9),
-        poisson_ratio: 0.17,
-        tensile_strength: u.stress_from_pa(16e9),
-        shear_strength: u.stress_from_pa(9e9),
-        surface_energy: u.surface_energy_from_si(1.5),
-        restitution: 0.9,
-        density: u.density_from_si(2200.0),
-        scaling: 0.5,
-    }
+    Material::from_si(&SiMaterial::table5(), UnitSystem::NANO)
 }
 
 /// A 36 x 30 x 24 nm box of the junction recipe at d0 = 6 nm, and a 1 ns run of a D = 10 nm junction.

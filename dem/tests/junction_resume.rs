@@ -2,7 +2,7 @@
 //! bit, as an uninterrupted one, and its dump holds each frame once. One test in this binary: the
 //! interrupt flag is process-wide.
 
-use dem::material::{Material, PairModel};
+use dem::material::{Material, PairModel, SiMaterial};
 use dem::sample::{make_sample, RelaxConfig, SampleSpec};
 use dem::scenario::junction::{run_resumable, JunctionConfig, JunctionResult};
 use dem::{Parallelism, UnitSystem};
@@ -18,16 +18,7 @@ fn timeless(r: &JunctionResult) -> String {
 #[test]
 fn an_interrupted_junction_resumes_bit_identically() {
     let u = UnitSystem::NANO;
-    let model = PairModel::cohesive(Material {
-        young_modulus: u.stress_from_pa(73e9),
-        poisson_ratio: 0.17,
-        tensile_strength: u.stress_from_pa(16e9),
-        shear_strength: u.stress_from_pa(9e9),
-        surface_energy: u.surface_energy_from_si(1.5),
-        restitution: 0.9,
-        density: u.density_from_si(2200.0),
-        scaling: 0.5,
-    });
+    let model = PairModel::cohesive(Material::from_si(&SiMaterial::table5(), u));
     let cfg = JunctionConfig {
         lengths: [36.0, 30.0, 24.0],
         diameter: 10.0,

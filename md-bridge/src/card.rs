@@ -6,25 +6,10 @@ use crate::error::{MdError, Result};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-/// The `[material]` table: exactly the properties the coarse-grained model needs (SI units).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Material {
-    pub name: String,
-    /// Pa.
-    pub young_modulus: f64,
-    pub poisson_ratio: f64,
-    /// Ideal (defect-free) tensile strength sigma_N, Pa.
-    pub tensile_strength: f64,
-    /// Peak shear strength sigma_T, Pa.
-    pub shear_strength: f64,
-    /// J/m^2.
-    pub surface_energy: f64,
-    /// Coefficient of restitution eta (not an MD measurement).
-    pub restitution: f64,
-    /// kg/m^3.
-    pub density: f64,
-}
+/// The `[material]` table: the shared SI material of `wear` (one definition for MD cards,
+/// calibration configs and Table 5); a measured card names the material and leaves the scaling
+/// exponent of eq (10) out, since MD cannot measure it.
+pub use wear::material::SiMaterial;
 
 /// Where the numbers come from, enough to reproduce them.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -43,7 +28,7 @@ pub struct Provenance {
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MaterialCard {
-    pub material: Material,
+    pub material: SiMaterial,
     pub provenance: Provenance,
 }
 
@@ -62,35 +47,9 @@ impl MaterialCard {
 /// Length scales of paper 000 (eqs 18, 19, 22), metres for a card in SI.
 pub use wear::scales::{length_scales, LengthScales};
 
-impl Material {
-    /// Paper 000 Table 5 (amorphous silica targets).
-    pub fn table5() -> Self {
-        Material {
-            name: "silica (paper 000 Table 5)".into(),
-            young_modulus: 73e9,
-            poisson_ratio: 0.17,
-            tensile_strength: 16e9,
-            shear_strength: 9e9,
-            surface_energy: 1.5,
-            restitution: 0.9,
-            density: 2200.0,
-        }
-    }
-
-    pub fn length_scales(&self) -> LengthScales {
-        length_scales(
-            self.young_modulus,
-            self.poisson_ratio,
-            self.tensile_strength,
-            self.shear_strength,
-            self.surface_energy,
-        )
-    }
-}
-
 /// Side-by-side text table of a measured card and Table 5, with the derived lengths.
-pub fn compare_with_table5(m: &Material) -> String {
-    let t = Material::table5();
+pub fn compare_with_table5(m: &SiMaterial) -> String {
+    let t = SiMaterial::table5();
     let (lm, lt) = (m.length_scales(), t.length_scales());
     let rows: [(&str, f64, f64); 10] = [
         ("E (GPa)", m.young_modulus / 1e9, t.young_modulus / 1e9),
@@ -117,17 +76,4 @@ pub fn compare_with_table5(m: &Material) -> String {
         s.push_str(&format!("{name:<20} {a:>12.4} {b:>12.4}\n"));
     }
     s
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn table5_lengths_match_paper() {
-        let l = Material::table5().length_scales();
-        assert!((l.d_min * 1e9 - 0.37).abs() < 0.01, "d_min {}", l.d_min);
-        assert!((l.d_c * 1e9 - 1.7).abs() < 0.05, "d_c {}", l.d_c);
-        assert!((l.d_star * 1e9 - 18.0).abs() < 1.0, "d* {}", l.d_star);
-    }
 }

@@ -3,6 +3,8 @@
 //! The adhesive-wear physics that both sides of the workbench share, as plain Rust with no engine and
 //! no Python in it, so that the DEM engine, the LAMMPS bridge and the validation report reach the same
 //! code:
+//! - [`material`]: the material in SI units, the one definition every card and config reads (Table 5
+//!   typed once), converted to engine units at the engine's edge;
 //! - [`scales`]: the length scales of paper 000, d_min (eq 19), d_c (eq 18) and the critical junction
 //!   size d* (eq 22, after Aghababaei et al. 2016);
 //! - [`outcome`]: the verdict on a sheared junction (plastic smoothing or a detached, rolling wear
@@ -17,10 +19,12 @@
 pub mod detachment;
 pub mod dstar;
 pub mod error;
+pub mod material;
 pub mod outcome;
 pub mod scales;
 pub mod tbl;
 
 pub use error::{Result, WearError};
+pub use material::SiMaterial;
 pub use outcome::{classify, ClassifyParams, Outcome, Verdict};
 pub use scales::LengthScales;

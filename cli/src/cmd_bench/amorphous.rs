@@ -22,12 +22,11 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Result};
-use calibrate::SiMaterial;
 use dem::io::progress::ProgressFile;
 use dem::jobs::{run_jobs, JobCache, RunJobs};
 use dem::neighbor::{NeighborList, PairRange};
 use dem::sample::{make_sample_resumable, RelaxConfig, Sample, SampleSpec};
-use dem::{Material, PairModel, Parallelism, RunConfig, Simulation, UnitSystem, Vec3};
+use dem::{Material, PairModel, Parallelism, RunConfig, SiMaterial, Simulation, UnitSystem, Vec3};
 use rand::{Rng, SeedableRng};
 use serde::Serialize;
 
@@ -53,7 +52,7 @@ struct SampleJob {
 }
 
 fn silica() -> Material {
-    SiMaterial::table5().to_engine(UnitSystem::NANO)
+    Material::from_si(&SiMaterial::table5(), UnitSystem::NANO)
 }
 
 fn recipe(length: f64) -> SampleSpec {

@@ -6,7 +6,7 @@
 
 use std::path::Path;
 
-use md_bridge::card::{length_scales, Material as Card};
+use md_bridge::card::{length_scales, SiMaterial};
 use md_bridge::job::{run_job, Job, JobOutput, JobRecord, RunOptions};
 use md_bridge::lattice::lattice_sums;
 use md_bridge::model::ModelConfig;
@@ -116,7 +116,7 @@ fn run_silica(ctx: &Context) -> Result<SectionOutput> {
             rec.output
         )));
     };
-    let t5 = Card::table5();
+    let t5 = SiMaterial::table5();
     let fig = "md-silica";
     let (t_title, s_title) = (
         "uniaxial tension: MD vs Table 5",
