@@ -134,6 +134,41 @@ pub struct Prepared {
 }
 
 impl CalibrationConfig {
+    /// `material` (engine units) on `sample`, every other field at the default a TOML file gets.
+    pub fn new(material: Material, sample: SampleSpec) -> Self {
+        CalibrationConfig {
+            material: Some(material),
+            material_si: None,
+            material_card: None,
+            law: cohesive(),
+            sample,
+            recipe: RecipeSettings::default(),
+            verification: VerifySettings::default(),
+            d0_m: None,
+            relax: RelaxConfig::default(),
+            targets: default_targets(),
+            unknowns: None,
+            start: ParamScale::default(),
+            solver: Settings::default(),
+            tests: TestSettings::default(),
+        }
+    }
+
+    /// The main job's default calibration (`cgdem pipeline` without a card, and the report's
+    /// calibration section): paper 000 Table 4 with Poisson's ratio `nu` on an HCP sample of
+    /// `l_over_d0` x `l_over_d0` x 3 d0 at d0 = 0.6 d_c, at most 12 iterations (lattices converge in
+    /// 2-8, docs/calibration.md).
+    pub fn table4_hcp(nu: f64, l_over_d0: f64) -> Self {
+        let sample = SampleSpec::Hcp {
+            d0_over_dc: 0.6,
+            l_over_d0,
+            w_over_d0: 3.0,
+        };
+        let mut cfg = Self::new(Material::table4(nu), sample);
+        cfg.solver.max_iterations = 12;
+        cfg
+    }
+
     pub fn from_toml(text: &str) -> Result<Self> {
         toml::from_str(text).map_err(|e| CalibrateError::InvalidConfig(e.to_string()))
     }
@@ -340,4 +375,27 @@ fn first_repeat<T: PartialEq + Copy>(v: &[T]) -> Option<T> {
         .enumerate()
         .find(|&(k, x)| v[k + 1..].contains(x))
         .map(|(_, &x)| x)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_typed_config_has_the_defaults_a_toml_file_gets() {
+        let from_file = CalibrationConfig::from_toml(
+            "[material]\nyoung_modulus = 1.0\npoisson_ratio = 0.15\ntensile_strength = 0.2\n\
+             shear_strength = 0.1\nsurface_energy = 1.5\nrestitution = 0.95\ndensity = 1.0\n\
+             [sample]\nkind = \"hcp\"\nd0_over_dc = 0.6\nl_over_d0 = 8.0\nw_over_d0 = 3.0\n\
+             [solver]\nmax_iterations = 12\n",
+        )
+        .unwrap();
+        assert_eq!(CalibrationConfig::table4_hcp(0.15, 8.0), from_file);
+        let mut other = CalibrationConfig::table4_hcp(0.15, 8.0);
+        other.solver.max_iterations = Settings::default().max_iterations;
+        assert_eq!(
+            other,
+            CalibrationConfig::new(Material::table4(0.15), from_file.sample.clone())
+        );
+    }
 }

@@ -14,7 +14,6 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use calibrate::{card_material, CalibrationConfig};
 use clap::Args;
-use dem::material::Material;
 use dem::sample::SampleSpec;
 
 /// Arguments of `cgdem pipeline`.
@@ -40,17 +39,7 @@ const SILICA: &str = include_str!("../../configs/calibrate-silica.toml");
 
 fn config(args: &PipelineArgs) -> Result<CalibrationConfig> {
     let mut cfg = match &args.material {
-        None => {
-            let mut cfg = CalibrationConfig::from_toml(
-                "[material]\nyoung_modulus = 1.0\npoisson_ratio = 0.15\ntensile_strength = 0.2\n\
-                 shear_strength = 0.1\nsurface_energy = 1.5\nrestitution = 0.95\ndensity = 1.0\n\
-                 [sample]\nkind = \"hcp\"\nd0_over_dc = 0.6\nl_over_d0 = 8.0\nw_over_d0 = 3.0\n",
-            )?;
-            cfg.material = Some(Material::table4(args.nu));
-            // Lattices converge in 2-8 iterations (docs/calibration.md).
-            cfg.solver.max_iterations = 12;
-            cfg
-        }
+        None => CalibrationConfig::table4_hcp(args.nu, 8.0),
         Some(path) => {
             let mut cfg = CalibrationConfig::from_toml(SILICA)?;
             let mut m = card_material(path)

@@ -8,8 +8,6 @@
 use std::path::Path;
 
 use calibrate::{CalibratedCard, CalibrationConfig, Properties, Target, Verification};
-use dem::material::Material;
-use dem::sample::SampleSpec;
 use dem::Parallelism;
 use serde::{Deserialize, Serialize};
 
@@ -58,17 +56,7 @@ struct Outcome {
 /// The pipeline's default calibration (`cgdem pipeline`): Table 4 at nu = 0.15 on an HCP sample of
 /// L x L x 3 d0, d0 = 0.6 d_c, at most 12 iterations.
 fn config(l: f64) -> Result<CalibrationConfig> {
-    // Every field at its default but the material, the sample and the iteration budget.
-    let mut cfg = CalibrationConfig::from_toml(
-        "[sample]\nkind = \"hcp\"\nd0_over_dc = 0.6\nl_over_d0 = 8.0\nw_over_d0 = 3.0\n",
-    )?;
-    cfg.material = Some(Material::table4(0.15));
-    cfg.sample = SampleSpec::Hcp {
-        d0_over_dc: 0.6,
-        l_over_d0: l,
-        w_over_d0: 3.0,
-    };
-    cfg.solver.max_iterations = 12;
+    let mut cfg = CalibrationConfig::table4_hcp(0.15, l);
     // A lattice has no seeds: the fresh sample is the same recipe twice as thick (one sample keeps
     // the report quick).
     cfg.verification.samples = vec![calibrate::Variant {
