@@ -80,6 +80,12 @@ pub struct JunctionConfig {
     pub duration: f64,
     /// Time step over dt_c (eq 6); default 0.1 (paper).
     pub time_step_fraction: f64,
+    /// Neighbour skin over the median diameter; default 0.2, not the engine's 0.05: a sheared junction
+    /// rattles (some particles move ~100 m/s), so at 0.05 the d0 = 1.5 nm run rebuilt its list every
+    /// 13 steps and spent half its time there (28.7 s of shear run against 14.0 s at 0.2, 14.3 s at
+    /// 0.3, 19.2 s at 0.5; docs/performance.md). The skin changes only which zero-force pairs the list
+    /// holds, so results agree to round-off (dem/tests/junction.rs).
+    pub skin_fraction: f64,
     /// Member frames recorded over the run; default 100 (a rolling particle turns ~0.05 rad between
     /// two, far below the pi a frame-to-frame fit could confuse).
     pub frames: u64,
@@ -138,6 +144,7 @@ impl Default for JunctionConfig {
             pressure: 100.0,
             duration: 10.0,
             time_step_fraction: 0.1,
+            skin_fraction: 0.2,
             frames: 100,
             force_samples: 1000,
             dump_frames: 50,
@@ -177,6 +184,7 @@ impl JunctionConfig {
             ("velocity", self.velocity),
             ("duration", self.duration),
             ("time_step_fraction", self.time_step_fraction),
+            ("skin_fraction", self.skin_fraction),
             ("min_diameter_over_d0", self.min_diameter_over_d0),
         ];
         if let Some(m) = crate::error::not_positive(&positive) {

@@ -79,6 +79,7 @@ pub fn run_resumable(
     let geo = build(relaxed, cfg)?;
     let run_cfg = RunConfig {
         time_step: TimeStep::FractionOfCritical(cfg.time_step_fraction),
+        skin_fraction: cfg.skin_fraction,
         planar: cfg.monolayer.is_some(),
         ..RunConfig::default()
     };
