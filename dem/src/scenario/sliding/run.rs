@@ -226,6 +226,7 @@ pub fn run_resumable(
     let d0 = cfg.d0();
     let run_cfg = RunConfig {
         time_step: TimeStep::FractionOfCritical(cfg.time_step_fraction),
+        skin_fraction: cfg.skin_fraction,
         ..RunConfig::default()
     };
     let mut rig = Rig::new(
