@@ -55,11 +55,14 @@ pub fn colour(k: usize) -> plotters::style::RGBColor {
     plotters::style::RGBColor(r, g, b)
 }
 
-/// Tick labels: six significant decimals at most, and no "-0" for a tick at zero.
+/// Tick labels: six significant decimals at most, no "-0" for a tick at zero, and from 1e5 on in
+/// exponent form ("-1.6e6", not "-1600000", which overran the label area of a force in pN).
 pub fn tick(v: &f64) -> String {
     let r = (v * 1e6).round() / 1e6;
     if r == 0.0 {
         "0".into()
+    } else if r.abs() >= 1e5 {
+        format!("{r:e}")
     } else {
         format!("{r}")
     }
@@ -75,6 +78,8 @@ mod tests {
         assert_eq!(tick(&-1e-19), "0");
         assert_eq!(tick(&-0.25), "-0.25");
         assert_eq!(tick(&16020.0), "16020");
+        assert_eq!(tick(&-1600000.0), "-1.6e6");
+        assert_eq!(tick(&200000.0), "2e5");
     }
 
     #[test]

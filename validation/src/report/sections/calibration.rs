@@ -55,7 +55,7 @@ struct Outcome {
 
 /// The pipeline's default calibration (`cgdem pipeline`): Table 4 at nu = 0.15 on an HCP sample of
 /// L x L x 3 d0, d0 = 0.6 d_c, at most 12 iterations.
-fn config(l: f64) -> Result<CalibrationConfig> {
+fn config(l: f64) -> CalibrationConfig {
     let mut cfg = CalibrationConfig::table4_hcp(0.15, l);
     // A lattice has no seeds: the fresh sample is the same recipe twice as thick (one sample keeps
     // the report quick).
@@ -64,7 +64,7 @@ fn config(l: f64) -> Result<CalibrationConfig> {
         length: 1.0,
         width: 2.0,
     }];
-    Ok(cfg)
+    cfg
 }
 
 fn calibrate_case(case: &Case, dir: &Path, par: Parallelism) -> Result<Outcome> {
@@ -135,7 +135,7 @@ fn run(ctx: &Context) -> Result<SectionOutput> {
     };
     let case = Case {
         version: VERSION,
-        config: config(l)?,
+        config: config(l),
     };
     let o = ctx
         .jobs("calibration", std::slice::from_ref(&case), calibrate_case)?
