@@ -21,11 +21,18 @@ pub struct JunctionArgs {
     /// Cache of relaxed samples (default: `samples/` beside the output directory).
     #[arg(long)]
     pub samples: Option<PathBuf>,
+    /// Seed of the relaxed sample, in place of the config's `[junction] seed` (a new packing of the
+    /// same recipe: run several to see how far an outcome depends on the draw).
+    #[arg(long)]
+    pub seed: Option<u64>,
 }
 
 /// Runs `cgdem junction`.
 pub fn run(args: JunctionArgs, threads: usize) -> Result<()> {
-    let file: JunctionFile = crate::config::read(&args.config)?;
+    let mut file: JunctionFile = crate::config::read(&args.config)?;
+    if let Some(seed) = args.seed {
+        file.junction.seed = seed;
+    }
     let base = args.config.parent().unwrap_or(std::path::Path::new("."));
     let material = file
         .resolve(base)

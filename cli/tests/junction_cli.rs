@@ -32,12 +32,26 @@ fn write(dir: &Path, name: &str, text: &str) -> String {
 #[test]
 fn a_junction_run_writes_its_verdict_curves_frames_dump_and_snapshot() {
     let d = scratch("junction-run");
-    let cfg = write(&d, "j.toml", &format!("{SMALL}diameter = 10.0\nseed = 2\n"));
+    // `--seed` replaces the config's seed: the run is seed 2's.
+    let cfg = write(&d, "j.toml", &format!("{SMALL}diameter = 10.0\nseed = 1\n"));
     let out = d.join("run");
-    let o = cgdem(&["junction", &cfg, "--out", out.to_str().unwrap()]);
+    let o = cgdem(&[
+        "junction",
+        &cfg,
+        "--seed",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let v: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("verdict.json")).unwrap()).unwrap();
+    assert_eq!(v["junction"]["seed"], 2);
+    assert_eq!(v["summary"]["seed"], 2);
+    // The top wall settles and the junction flattens, by less than a junction height (the collapse
+    // guard's limit).
+    let descent = v["summary"]["wall_descent_over_height"].as_f64().unwrap();
+    assert!(descent > 0.0 && descent < 1.0, "{descent}");
     let outcome = v["outcome"].as_str().unwrap();
     assert!(
         outcome == "plastic_smoothing" || outcome == "wear_particle",

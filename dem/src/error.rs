@@ -44,6 +44,9 @@ pub enum DemError {
     /// grew to the order of E instead of decaying): no sample, with the reason.
     #[error("relaxation failed at phase-2 step {step}: {reason}")]
     RelaxationFailed { step: u64, reason: String },
+
+    #[error("the material collapsed at step {step}: {reason}")]
+    MaterialCollapsed { step: u64, reason: String },
     /// The run was interrupted (Ctrl-C) before this step; the state is that of the end of the previous step.
     #[error("interrupted at step {step}")]
     Interrupted { step: u64 },

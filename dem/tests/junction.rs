@@ -90,6 +90,45 @@ fn the_top_wall_slides_at_its_velocity_carries_the_load_and_threads_do_not_matte
 }
 
 #[test]
+fn a_top_wall_sinking_further_than_the_guard_allows_stops_the_run_as_a_collapse() {
+    let (sample, model, cfg) = small();
+    // At the default limit (one junction height) the run goes through: the wall settles under the
+    // load and the junction flattens, by less than H.
+    let r = run(&sample, &model, &cfg, Parallelism::Sequential, None).unwrap();
+    let descent = -r
+        .force
+        .iter()
+        .map(|s| s.displacement[1])
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        descent > 0.0 && descent < cfg.height(),
+        "descent {descent}, H {}",
+        cfg.height()
+    );
+    // The default is not written, so the keys of runs made before the guard stay.
+    let written = toml::to_string(&cfg).unwrap();
+    assert!(!written.contains("max_descent"), "{written}");
+    // A limit below what this wall descends stops the run with the reason, before its end.
+    let tight = JunctionConfig {
+        max_descent_over_height: 0.5 * descent / cfg.height(),
+        ..cfg.clone()
+    };
+    assert!(toml::to_string(&tight)
+        .unwrap()
+        .contains("max_descent_over_height"));
+    match run(&sample, &model, &tight, Parallelism::Sequential, None) {
+        Err(DemError::MaterialCollapsed { step, reason }) => {
+            assert!(step < r.steps, "stopped at {step} of {}", r.steps);
+            assert!(
+                reason.contains("descended") && reason.contains("no verdict"),
+                "{reason}"
+            );
+        }
+        other => panic!("expected a collapse, got {other:?}"),
+    }
+}
+
+#[test]
 fn the_neighbour_skin_changes_nothing_but_round_off() {
     // A larger skin only adds pairs beyond reach, whose force is exactly zero; what moves is where
     // the rebuilds fall (positions are wrapped there), a round-off effect. Over 1 ns of shear the

@@ -154,6 +154,11 @@ pub struct JunctionSummary {
     pub slide: f64,
     pub run_seconds: f64,
     pub relax_seconds: f64,
+    /// The top wall's largest descent over the run, over the junction height H: a junction squashed
+    /// flat gives at most 1, and beyond `max_descent_over_height` the run stops as a collapse (none in
+    /// summaries written before it was recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wall_descent_over_height: Option<f64>,
 }
 
 /// What `verdict.json` holds.
@@ -213,6 +218,13 @@ pub fn run_junction(
         slide: r.slide,
         run_seconds: r.wall_seconds,
         relax_seconds: record.seconds,
+        wall_descent_over_height: Some(
+            r.force
+                .iter()
+                .map(|s| -s.displacement[1])
+                .fold(0.0, f64::max)
+                / cfg.height(),
+        ),
     };
     write_outputs(out, cfg, material, &r, &summary)?;
     progress::remove(&progress.path)?;

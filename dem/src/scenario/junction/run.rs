@@ -9,6 +9,7 @@ use wear::{classify, Outcome, Verdict};
 use super::{build, JunctionConfig};
 use crate::error::{DemError, Result};
 use crate::io::progress::{self, ProgressFile};
+use crate::io::Sig;
 use crate::material::PairModel;
 use crate::observe::{periodicity, Dump, ForceSample, GroupForce, MemberFrames, Observer};
 use crate::sample::Sample;
@@ -38,16 +39,70 @@ pub struct JunctionResult {
     pub wall_seconds: f64,
 }
 
-/// What a junction run records: the members' frames (the classifier's input) and the top wall's force.
+/// What a junction run records: the members' frames (the classifier's input) and the top wall's force,
+/// with the guard that stops a collapsing run.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 struct Records {
     frames: MemberFrames,
     force: GroupForce,
+    guard: DescentGuard,
 }
 
 impl Recorders for Records {
     fn observers(&mut self) -> Vec<&mut dyn Observer> {
-        vec![&mut self.frames, &mut self.force]
+        vec![&mut self.frames, &mut self.force, &mut self.guard]
+    }
+}
+
+/// Stops the run once the top wall has descended further than a junction squashed flat allows
+/// ([`JunctionConfig::max_descent_over_height`]): the solids are then compacting, and no verdict on
+/// the junction means anything.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct DescentGuard {
+    every: u64,
+    /// A particle of the top wall (the wall moves as one body) and its height at the start.
+    member: usize,
+    y0: f64,
+    height: f64,
+    limit: f64,
+}
+
+impl DescentGuard {
+    fn new(sim: &Simulation, member: usize, cfg: &JunctionConfig, every: u64) -> Self {
+        DescentGuard {
+            every,
+            member,
+            y0: sim.particles.pos[member].y,
+            height: cfg.height(),
+            limit: cfg.max_descent_over_height * cfg.height(),
+        }
+    }
+}
+
+impl Observer for DescentGuard {
+    fn every(&self) -> u64 {
+        self.every
+    }
+    fn observe(&mut self, sim: &Simulation) -> Result<()> {
+        // y is the walls' axis, never periodic: the stored position is the real one.
+        let descent = self.y0 - sim.particles.pos[self.member].y;
+        if descent > self.limit {
+            return Err(DemError::MaterialCollapsed {
+                step: sim.step_count(),
+                reason: format!(
+                    "the top wall has descended by {}, more than the limit of {} x the junction \
+                     height H = {}: a junction squashed flat lowers it by at most H, so the solids themselves are \
+                     compacting, their particles pulled into each other under the shear. The \
+                     material's relaxed packing is not stable (a card whose relaxed samples \
+                     interpenetrate does this; docs/junction.md, \"Calibrated cards collapse under \
+                     shear\"); no verdict is given",
+                    Sig(descent, 4),
+                    Sig(self.limit / self.height, 3),
+                    Sig(self.height, 4)
+                ),
+            });
+        }
+        Ok(())
     }
 }
 
@@ -134,6 +189,7 @@ pub fn run_resumable(
         let records = Records {
             frames: MemberFrames::new(sim, geo.members.clone(), frame_every)?,
             force: GroupForce::new(sim, rig.top_members.clone(), force_every)?,
+            guard: DescentGuard::new(sim, rig.top_members[0], cfg, force_every),
         };
         let dump = dump_for(sim, dump, cfg.dump_frames, total, || {
             let mut member = vec![0u32; geo.body.len()];
@@ -146,7 +202,9 @@ pub fn run_resumable(
         Ok((records, dump))
     };
     let recorded = driven::run_resumable(&mut rig.sim, par, schedule, fresh, report)?;
-    let Records { frames, mut force } = recorded.records;
+    let Records {
+        frames, mut force, ..
+    } = recorded.records;
     // The series ends at the last step, whatever the sampling interval.
     if force.samples.last().is_none_or(|s| s.step != total) {
         force.observe(&rig.sim)?;

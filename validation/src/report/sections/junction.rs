@@ -478,6 +478,7 @@ mod tests {
             slide: 1.0,
             run_seconds: 1.0,
             relax_seconds: 1.0,
+            wall_descent_over_height: None,
         };
         let mut runs = vec![r.clone()];
         r.seed = 2;
