@@ -67,6 +67,12 @@ pub struct VerifiedSample {
     /// Particles and relaxed volume fraction (0 when the relaxation failed).
     pub particles: usize,
     pub volume_fraction: f64,
+    /// Pairs of the relaxed sample overlapping by more than half the smaller radius, per particle: an
+    /// interpenetrated packing is metastable and can compact under shear (closed-form silica 0-0.025;
+    /// the calibrated silica cards whose junctions collapsed, 0.06-0.35: dem::sample::stats). None
+    /// where not recorded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub deep_overlaps: Option<f64>,
     /// Whether the tensile test separated the sample (the surface energy is then that of two clean
     /// surfaces; otherwise a lower bound).
     pub separated: bool,
@@ -129,6 +135,8 @@ impl Verification {
 struct SampleResult {
     particles: usize,
     volume_fraction: f64,
+    #[serde(default)]
+    deep_overlaps: Option<f64>,
     separated: bool,
     outcome: std::result::Result<Properties, EvalFailure>,
 }
@@ -186,6 +194,7 @@ pub fn verify(
             Err(f) => SampleResult {
                 particles: 0,
                 volume_fraction: 0.0,
+                deep_overlaps: None,
                 separated: false,
                 outcome: Err(f),
             },
@@ -194,6 +203,10 @@ pub fn verify(
                 SampleResult {
                     particles: sample.particles.len(),
                     volume_fraction: sample.volume_fraction(),
+                    deep_overlaps: sample
+                        .relaxation
+                        .as_ref()
+                        .map(|r| r.coordination.deep_overlaps),
                     separated: m.as_ref().ok().and_then(|m| m.separated).unwrap_or(false),
                     outcome: m.map(|m| m.properties),
                 }
@@ -221,6 +234,7 @@ pub fn verify(
             spec: spec.clone(),
             particles: r.particles,
             volume_fraction: r.volume_fraction,
+            deep_overlaps: r.deep_overlaps,
             separated: r.separated,
             failure: r
                 .outcome

@@ -109,6 +109,12 @@ fn recipe_level_calibration_is_cached_thread_independent_resumable_and_verified(
     assert_eq!(v.seeds, vec![11, 12]);
     assert_eq!(v.samples.len(), 2);
     assert!(v.samples[1].particles > v.samples[0].particles);
+    // Each records how interpenetrated its relaxed packing is (a sound one: almost no pair overlaps
+    // by half the smaller radius).
+    for s in &v.samples {
+        let deep = s.deep_overlaps.expect("deep overlaps recorded");
+        assert!((0.0..0.1).contains(&deep), "{deep}");
+    }
     for check in [&v.young_modulus, &v.poisson_ratio] {
         assert_eq!(check.values.len(), 2);
         let worst = check

@@ -96,10 +96,13 @@ pub(crate) fn verification_lines(v: &Verification, units: &str) -> String {
     );
     for sample in &v.samples {
         s.push_str(&format!(
-            "  {}: {} particles, vf {:.4}{}\n",
+            "  {}: {} particles, vf {:.4}{}{}\n",
             calibrate::recipe::describe(&sample.spec),
             sample.particles,
             sample.volume_fraction,
+            sample.deep_overlaps.map_or(String::new(), |d| format!(
+                ", {d:.3} deep overlaps per particle"
+            )),
             match (&sample.failure, sample.separated) {
                 (Some(f), _) => format!(", FAILED: {f}"),
                 (None, true) => String::new(),

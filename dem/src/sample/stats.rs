@@ -4,6 +4,13 @@
 //! - *interacting*: pairs within their interaction range, delta_N < delta_f (12 in an HCP lattice);
 //! - *contacts*: pairs touching or overlapping, delta_N <= `contact_tolerance` * (r_i + r_j).
 //!
+//! Beside them, *deep overlaps*: pairs whose overlap exceeds half the smaller radius, per particle.
+//! A relaxed packing of the closed-form silica has almost none (0-0.001 per particle at d0 = 3 and
+//! 6 nm, 0.025 at 1.5 nm with sizes up to 5 d0); the junction boxes of the calibrated silica cards
+//! had 0.10 (15 d0 card) and 0.26-0.35 (20 d0 card), interpenetrated and metastable: sheared in a
+//! junction they compacted until the walls met (docs/junction.md, "Calibrated cards collapse under
+//! shear").
+//!
 //! Decision: in a relaxed amorphous sample the bonded pairs are spread over a wide band of gaps on both
 //! sides of delta_N = 0 (see [`gap_statistics`]), so the contact count depends on the tolerance while
 //! the interacting count does not; the latter is the one that controls the elastic properties.
@@ -33,6 +40,10 @@ pub struct Coordination {
     pub contacts: f64,
     /// Particles with no partner in range.
     pub isolated: usize,
+    /// Pairs overlapping by more than half the smaller radius, per particle (0 in reports written
+    /// before it was counted).
+    #[serde(default)]
+    pub deep_overlaps: f64,
 }
 
 /// Coordination numbers of `particles` in `bx` under the cohesive ranges of `model`.
@@ -49,7 +60,7 @@ pub fn coordination(
     list.build(&mut pos, &particles.radius, bx, &coef)?;
     let n = particles.len();
     let mut degree = vec![0u32; n];
-    let (mut inter, mut contact) = (0usize, 0usize);
+    let (mut inter, mut contact, mut deep) = (0usize, 0usize, 0usize);
     for p in 0..list.len() {
         let (i, j) = (list.i[p] as usize, list.j[p] as usize);
         let (ri, rj) = (particles.radius[i], particles.radius[j]);
@@ -61,6 +72,9 @@ pub fn coordination(
             if dist - ri - rj <= contact_tolerance * (ri + rj) {
                 contact += 1;
             }
+            if ri + rj - dist > 0.5 * ri.min(rj) {
+                deep += 1;
+            }
         }
     }
     let nf = n.max(1) as f64;
@@ -68,6 +82,7 @@ pub fn coordination(
         interacting: 2.0 * inter as f64 / nf,
         contacts: 2.0 * contact as f64 / nf,
         isolated: degree.iter().filter(|&&d| d == 0).count(),
+        deep_overlaps: deep as f64 / nf,
     })
 }
 
@@ -167,6 +182,29 @@ mod tests {
             "{c:?}"
         );
         assert_eq!(c.isolated, 0);
+        assert_eq!(c.deep_overlaps, 0.0);
+    }
+
+    #[test]
+    fn a_small_sphere_half_inside_a_large_one_is_a_deep_overlap() {
+        // Overlaps of 0.6 and 0.4 of the smaller radius: one deep pair among the four particles.
+        let model = PairModel::cohesive(Material::table4(0.15));
+        let mut p = Particles::default();
+        let (big, small) = (45.0, 20.0);
+        let at = |x: f64| crate::Vec3::new(x, 100.0, 100.0);
+        p.push_sphere(at(100.0), big, 1.0);
+        p.push_sphere(at(100.0 + big + small - 0.6 * small), small, 1.0);
+        p.push_sphere(at(500.0), big, 1.0);
+        p.push_sphere(at(500.0 + big + small - 0.4 * small), small, 1.0);
+        let bx = SimBox::new(
+            crate::Vec3::zeros(),
+            crate::Vec3::new(1000.0, 1000.0, 1000.0),
+            [true; 3],
+        )
+        .unwrap();
+        let c = coordination(&p, &bx, &model, 1e-9).unwrap();
+        assert_eq!(c.deep_overlaps, 0.25, "{c:?}");
+        assert_eq!(c.contacts, 1.0, "{c:?}");
     }
 
     #[test]
