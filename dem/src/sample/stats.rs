@@ -9,7 +9,8 @@
 //! 6 nm, 0.025 at 1.5 nm with sizes up to 5 d0); the junction boxes of the calibrated silica cards
 //! had 0.10 (15 d0 card) and 0.26-0.35 (20 d0 card), interpenetrated and metastable: sheared in a
 //! junction they compacted until the walls met (docs/junction.md, "Calibrated cards collapse under
-//! shear").
+//! shear"). It is a symptom to read beside the material, not a criterion: the closed-form Table 4
+//! amorphous recipe (d0 = 0.6 d_c) relaxes to 0.07-0.11.
 //!
 //! Decision: in a relaxed amorphous sample the bonded pairs are spread over a wide band of gaps on both
 //! sides of delta_N = 0 (see [`gap_statistics`]), so the contact count depends on the tolerance while
