@@ -160,10 +160,23 @@ fn the_junction_section_reports_its_runs_and_search_consistently() {
         .find(|c| c.item == "Fig. 10 (a-b)")
         .expect("the D = 10 nm claim");
     assert_eq!(small.verdict(), Verdict::Pass, "{small:?}");
+    // The solids held: the top wall descended by less than a junction height in every run.
+    let descent = claims
+        .iter()
+        .find(|c| c.quantity.starts_with("largest top-wall descent"))
+        .expect("the descent claim");
+    assert!(
+        descent.measured > 0.0 && descent.measured < 1.0,
+        "{descent:?}"
+    );
+    assert_eq!(descent.verdict(), Verdict::Pass, "{descent:?}");
     // The search's claim is a number (a bracket centre, or the smallest detaching D), never NaN.
     let search = claims
         .iter()
-        .find(|c| c.item == "section 4")
+        .find(|c| {
+            c.item == "section 4" && c.quantity.starts_with("d* from the DEM search")
+                || c.item == "section 4" && c.quantity.starts_with("smallest D")
+        })
         .expect("the search claim");
     assert!(
         search.measured.is_finite() && search.measured >= 12.0,

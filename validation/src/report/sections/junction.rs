@@ -227,6 +227,25 @@ fn claims(runs: &[JunctionSummary], s: &DstarResult) -> Vec<Claim> {
             );
         }
     }
+    // The solids must hold while the junction deforms: a squashed junction lowers the top wall by
+    // less than its height H, and a run whose wall goes further stops as a collapse (no verdict).
+    if let Some(worst) = runs
+        .iter()
+        .filter_map(|r| r.wall_descent_over_height)
+        .max_by(f64::total_cmp)
+    {
+        c.push(
+            Claim::new(
+                "000",
+                "section 4",
+                "largest top-wall descent of the single runs, in junction heights H (a squashed junction: below 1)",
+                1.0,
+                worst,
+                Tolerance::Below,
+            )
+            .note("the solids hold: beyond 1 H they would be compacting, as the calibrated silica cards' do (docs/junction.md), and the run would stop as a collapse"),
+        );
+    }
     let b = &s.bracket;
     let state = format!(
         "bracket ({}, {}] nm, {}; {}",
