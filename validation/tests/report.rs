@@ -174,8 +174,9 @@ fn the_junction_section_reports_its_runs_and_search_consistently() {
     let search = claims
         .iter()
         .find(|c| {
-            c.item == "section 4" && c.quantity.starts_with("d* from the DEM search")
-                || c.item == "section 4" && c.quantity.starts_with("smallest D")
+            c.item == "section 4"
+                && (c.quantity.starts_with("d* from the DEM search")
+                    || c.quantity.starts_with("smallest D"))
         })
         .expect("the search claim");
     assert!(
