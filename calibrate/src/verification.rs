@@ -206,7 +206,7 @@ pub fn verify(
                     deep_overlaps: sample
                         .relaxation
                         .as_ref()
-                        .map(|r| r.coordination.deep_overlaps),
+                        .and_then(|r| r.coordination.deep_overlaps),
                     separated: m.as_ref().ok().and_then(|m| m.separated).unwrap_or(false),
                     outcome: m.map(|m| m.properties),
                 }

@@ -44,7 +44,8 @@ pub enum DemError {
     /// grew to the order of E instead of decaying): no sample, with the reason.
     #[error("relaxation failed at phase-2 step {step}: {reason}")]
     RelaxationFailed { step: u64, reason: String },
-
+    /// A driven run whose material gave way as a whole (the junction's solids compacting under the
+    /// shear): no result, with the evidence.
     #[error("the material collapsed at step {step}: {reason}")]
     MaterialCollapsed { step: u64, reason: String },
     /// The run was interrupted (Ctrl-C) before this step; the state is that of the end of the previous step.

@@ -95,11 +95,7 @@ fn a_top_wall_sinking_further_than_the_guard_allows_stops_the_run_as_a_collapse(
     // At the default limit (one junction height) the run goes through: the wall settles under the
     // load and the junction flattens, by less than H.
     let r = run(&sample, &model, &cfg, Parallelism::Sequential, None).unwrap();
-    let descent = -r
-        .force
-        .iter()
-        .map(|s| s.displacement[1])
-        .fold(f64::INFINITY, f64::min);
+    let descent = r.largest_wall_descent();
     assert!(
         descent > 0.0 && descent < cfg.height(),
         "descent {descent}, H {}",

@@ -436,7 +436,7 @@ pub fn relax_resumable(
         converged,
         volume_fraction = %Sig(report.volume_fraction, 4),
         coordination = %Sig(coord.interacting, 4),
-        deep_overlaps = %Sig(coord.deep_overlaps, 3),
+        deep_overlaps = %Sig(coord.deep_overlaps.unwrap_or(f64::NAN), 3),
         neighbour_builds = sim.neighbor_builds(),
         seconds = %Sig(report.wall_seconds, 3),
         "relaxed"

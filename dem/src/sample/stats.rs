@@ -41,10 +41,10 @@ pub struct Coordination {
     pub contacts: f64,
     /// Particles with no partner in range.
     pub isolated: usize,
-    /// Pairs overlapping by more than half the smaller radius, per particle (0 in reports written
+    /// Pairs overlapping by more than half the smaller radius, per particle (none in reports written
     /// before it was counted).
-    #[serde(default)]
-    pub deep_overlaps: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub deep_overlaps: Option<f64>,
 }
 
 /// Coordination numbers of `particles` in `bx` under the cohesive ranges of `model`.
@@ -83,7 +83,7 @@ pub fn coordination(
         interacting: 2.0 * inter as f64 / nf,
         contacts: 2.0 * contact as f64 / nf,
         isolated: degree.iter().filter(|&&d| d == 0).count(),
-        deep_overlaps: deep as f64 / nf,
+        deep_overlaps: Some(deep as f64 / nf),
     })
 }
 
@@ -183,7 +183,7 @@ mod tests {
             "{c:?}"
         );
         assert_eq!(c.isolated, 0);
-        assert_eq!(c.deep_overlaps, 0.0);
+        assert_eq!(c.deep_overlaps, Some(0.0));
     }
 
     #[test]
@@ -204,7 +204,7 @@ mod tests {
         )
         .unwrap();
         let c = coordination(&p, &bx, &model, 1e-9).unwrap();
-        assert_eq!(c.deep_overlaps, 0.25, "{c:?}");
+        assert_eq!(c.deep_overlaps, Some(0.25), "{c:?}");
         assert_eq!(c.contacts, 1.0, "{c:?}");
     }
 

@@ -218,13 +218,7 @@ pub fn run_junction(
         slide: r.slide,
         run_seconds: r.wall_seconds,
         relax_seconds: record.seconds,
-        wall_descent_over_height: Some(
-            r.force
-                .iter()
-                .map(|s| -s.displacement[1])
-                .fold(0.0, f64::max)
-                / cfg.height(),
-        ),
+        wall_descent_over_height: Some(r.largest_wall_descent() / cfg.height()),
     };
     write_outputs(out, cfg, material, &r, &summary)?;
     progress::remove(&progress.path)?;

@@ -40,63 +40,62 @@ pub struct JunctionResult {
 }
 
 /// What a junction run records: the members' frames (the classifier's input) and the top wall's force,
-/// with the guard that stops a collapsing run.
+/// whose recorder also stops a collapsing run.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 struct Records {
     frames: MemberFrames,
-    force: GroupForce,
-    guard: DescentGuard,
+    top: TopWall,
 }
 
 impl Recorders for Records {
     fn observers(&mut self) -> Vec<&mut dyn Observer> {
-        vec![&mut self.frames, &mut self.force, &mut self.guard]
+        vec![&mut self.frames, &mut self.top]
     }
 }
 
-/// Stops the run once the top wall has descended further than a junction squashed flat allows
-/// ([`JunctionConfig::max_descent_over_height`]): the solids are then compacting, and no verdict on
-/// the junction means anything.
+/// How far the top wall has descended at a force sample (its displacement is measured from the start).
+fn descent(s: &ForceSample) -> f64 {
+    -s.displacement[1]
+}
+
+impl JunctionResult {
+    /// The top wall's largest descent over the run (0 if it only rose).
+    pub fn largest_wall_descent(&self) -> f64 {
+        self.force.iter().map(descent).fold(0.0, f64::max)
+    }
+}
+
+/// The top wall's force recorder, which also stops the run once the wall has descended further than
+/// a junction squashed flat allows ([`JunctionConfig::max_descent_over_height`]): the solids are then
+/// compacting, and no verdict on the junction means anything.
 #[derive(Debug, Clone, Serialize, Deserialize)]
-struct DescentGuard {
-    every: u64,
-    /// A particle of the top wall (the wall moves as one body) and its height at the start.
-    member: usize,
-    y0: f64,
+struct TopWall {
+    force: GroupForce,
+    /// Junction height H and the largest descent allowed.
     height: f64,
     limit: f64,
 }
 
-impl DescentGuard {
-    fn new(sim: &Simulation, member: usize, cfg: &JunctionConfig, every: u64) -> Self {
-        DescentGuard {
-            every,
-            member,
-            y0: sim.particles.pos[member].y,
-            height: cfg.height(),
-            limit: cfg.max_descent_over_height * cfg.height(),
-        }
-    }
-}
-
-impl Observer for DescentGuard {
+impl Observer for TopWall {
     fn every(&self) -> u64 {
-        self.every
+        self.force.every
     }
     fn observe(&mut self, sim: &Simulation) -> Result<()> {
-        // y is the walls' axis, never periodic: the stored position is the real one.
-        let descent = self.y0 - sim.particles.pos[self.member].y;
-        if descent > self.limit {
+        self.force.observe(sim)?;
+        let Some(d) = self.force.samples.last().map(descent) else {
+            return Ok(());
+        };
+        if d > self.limit {
             return Err(DemError::MaterialCollapsed {
                 step: sim.step_count(),
                 reason: format!(
                     "the top wall has descended by {}, more than the limit of {} x the junction \
-                     height H = {}: a junction squashed flat lowers it by at most H, so the solids themselves are \
-                     compacting, their particles pulled into each other under the shear. The \
-                     material's relaxed packing is not stable (a card whose relaxed samples \
-                     interpenetrate does this; docs/junction.md, \"Calibrated cards collapse under \
-                     shear\"); no verdict is given",
-                    Sig(descent, 4),
+                     height H = {}: a junction squashed flat lowers it by less than H, so the solids \
+                     themselves are compacting, their particles pulled into each other under the \
+                     shear. The material's relaxed packing is not stable (a card whose relaxed \
+                     samples interpenetrate does this; docs/junction.md, \"Calibrated cards \
+                     collapse under shear\"); no verdict is given",
+                    Sig(d, 4),
                     Sig(self.limit / self.height, 3),
                     Sig(self.height, 4)
                 ),
@@ -188,8 +187,11 @@ pub fn run_resumable(
     let fresh = |sim: &Simulation| -> Result<(Records, Option<Dump>)> {
         let records = Records {
             frames: MemberFrames::new(sim, geo.members.clone(), frame_every)?,
-            force: GroupForce::new(sim, rig.top_members.clone(), force_every)?,
-            guard: DescentGuard::new(sim, rig.top_members[0], cfg, force_every),
+            top: TopWall {
+                force: GroupForce::new(sim, rig.top_members.clone(), force_every)?,
+                height: cfg.height(),
+                limit: cfg.max_descent_over_height * cfg.height(),
+            },
         };
         let dump = dump_for(sim, dump, cfg.dump_frames, total, || {
             let mut member = vec![0u32; geo.body.len()];
@@ -202,13 +204,12 @@ pub fn run_resumable(
         Ok((records, dump))
     };
     let recorded = driven::run_resumable(&mut rig.sim, par, schedule, fresh, report)?;
-    let Records {
-        frames, mut force, ..
-    } = recorded.records;
-    // The series ends at the last step, whatever the sampling interval.
-    if force.samples.last().is_none_or(|s| s.step != total) {
-        force.observe(&rig.sim)?;
+    let Records { frames, mut top } = recorded.records;
+    // The series ends at the last step, whatever the sampling interval (and the guard reads it too).
+    if top.force.samples.last().is_none_or(|s| s.step != total) {
+        top.observe(&rig.sim)?;
     }
+    let force = top.force;
     let wear_err = |e: wear::WearError| DemError::InvalidConfig(format!("junction outcome: {e}"));
     let tangential: Vec<f64> = frames.steps.iter().map(|&s| force_at(&force, s)).collect();
     let last = Snapshot::of(&rig.sim, &geo.body, &roles);
