@@ -30,6 +30,10 @@ pub enum CalibrateError {
     /// the same command resumes.
     #[error("interrupted; the evaluations so far are saved: rerun the same command to continue")]
     Interrupted,
+    /// A calibrated card whose verification samples compacted under shear: a scenario run with it
+    /// collapses (docs/junction.md), so it is refused before any simulation.
+    #[error("card {path} is not usable in a scenario: {detail}; recalibrate with [tests.compaction] (docs/calibration.md, \"Shear under load\")")]
+    CardCollapses { path: String, detail: String },
     /// Reading or writing a file failed.
     #[error("i/o error on {path}: {reason}")]
     Io { path: String, reason: String },

@@ -20,14 +20,17 @@
 //! parameters move).
 //!
 //! A sample whose relaxation fails under the trial model, or a test that fails on it, makes the whole
-//! evaluation a failure with that reason (never a number).
+//! evaluation a failure with that reason (never a number). So does a sample that compacts under
+//! shear when `[tests.compaction]` asks for that test (`dem::scenario::patch::compaction`): a card
+//! whose packing collapses when it flows is no card a junction can use, whatever its strengths.
 
 use std::sync::Arc;
 
 use dem::material::{Material, PairModel, ParamScale};
 use dem::sample::{RelaxConfig, Sample, SampleSpec};
 use dem::scenario::patch::{
-    elastic, strength, target_strength, ElasticConfig, StrengthConfig, StrengthMode,
+    compaction, elastic, strength, target_strength, CompactionConfig, CompactionResult,
+    ElasticConfig, StrengthConfig, StrengthMode,
 };
 use dem::Parallelism;
 use rayon::prelude::*;
@@ -146,6 +149,12 @@ pub struct TestSettings {
     pub tensile: StrengthConfig,
     /// Default: the paper's shear test, recorded every 20 steps, stopped 0.05 past the peak.
     pub shear: StrengthConfig,
+    /// Default none: evaluations do not shear under load. `[tests.compaction]` (an empty table takes
+    /// the test's defaults) makes every evaluation shear its samples under normal load as well, and a
+    /// trial under which one compacts is a failed evaluation (the card would collapse in a junction);
+    /// the verification runs the test whether or not the calibration did.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub compaction: Option<CompactionConfig>,
 }
 
 impl Default for TestSettings {
@@ -159,6 +168,7 @@ impl Default for TestSettings {
             elastic: ElasticConfig::default(),
             tensile: short(StrengthMode::Tensile),
             shear: short(StrengthMode::Shear),
+            compaction: None,
         }
     }
 }
@@ -247,7 +257,10 @@ impl PatchProblem {
             .map(|spec| {
                 let sample = self.sample(spec, model)?;
                 measure_on(&sample, model, &self.targets, &self.tests)
-                    .map(|m| m.properties)
+                    .and_then(|m| match (&m.compaction, &self.tests.compaction) {
+                        (Some(c), Some(cfg)) if c.collapsed => Err(compaction_failure(c, cfg)),
+                        _ => Ok(m.properties),
+                    })
                     .map_err(|EvalFailure(e)| EvalFailure(format!("{}: {e}", describe(spec))))
             })
             .collect::<Vec<_>>()
@@ -269,11 +282,26 @@ pub fn target_value(m: &Material, d0: f64, t: Target) -> f64 {
 }
 
 /// What the tests of one sample gave.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Measurement {
     pub properties: Properties,
     /// Whether the tensile test separated the sample (None: no tensile test).
     pub separated: Option<bool>,
+    /// The shear-under-load test, when the settings ask for it.
+    pub compaction: Option<CompactionResult>,
+}
+
+/// Why a sample that compacted under shear is no measurement of a usable card.
+pub fn compaction_failure(c: &CompactionResult, cfg: &CompactionConfig) -> EvalFailure {
+    EvalFailure(format!(
+        "compaction test: the packing compacted by {:.1} % of its height at shear strain {:.2} under \
+         {} E of normal pressure (limit {} %): its particles are pulled into each other when it flows, \
+         as the calibrated silica cards did in the junction",
+        100.0 * c.largest_compaction,
+        c.shear_strain,
+        cfg.pressure,
+        100.0 * cfg.max_compaction
+    ))
 }
 
 /// Runs the patch tests `targets` need with `model` on `sample` (each test sequential, the tests side
@@ -305,8 +333,15 @@ pub fn measure_on(
             .transpose()
             .map_err(|e| fail("shear", e))
     };
-    let (el, (te, sh)) = rayon::join(el, || rayon::join(te, sh));
-    let (el, te, sh) = (el?, te?, sh?);
+    let co = || {
+        tests
+            .compaction
+            .map(|c| compaction(sample, model, &c, seq))
+            .transpose()
+            .map_err(|e| fail("compaction", e))
+    };
+    let ((el, co), (te, sh)) = rayon::join(|| rayon::join(el, co), || rayon::join(te, sh));
+    let (el, te, sh, co) = (el?, te?, sh?, co?);
     let mut p = Properties::default();
     let mut separated = None;
     if let Some(e) = el {
@@ -338,6 +373,7 @@ pub fn measure_on(
     Ok(Measurement {
         properties: p,
         separated,
+        compaction: co,
     })
 }
 

@@ -19,6 +19,7 @@ use std::sync::{Arc, Mutex};
 use dem::jobs::JobCache;
 use dem::material::{Interactions, PairModel, ParamScale};
 use dem::sample::{make_sample, relax as relax_sample, RelaxConfig, Sample, SampleSpec};
+use dem::scenario::patch::CompactionConfig;
 use dem::{DemError, Parallelism};
 use serde::{Deserialize, Serialize};
 
@@ -63,6 +64,9 @@ pub struct VerifySettings {
     pub post_peak_strain: f64,
     /// Skip the verification (the card then has no `[verification]` table); default false.
     pub skip: bool,
+    /// The shear-under-load test every verification sample runs; default the test's defaults
+    /// (0.01 E, shear strain 1, limit 5 %), whatever `[tests.compaction]` the calibration used.
+    pub compaction: CompactionConfig,
 }
 
 impl Default for VerifySettings {
@@ -76,6 +80,7 @@ impl Default for VerifySettings {
             samples: vec![v(101, 1.0), v(102, 1.0), v(103, 2.0)],
             post_peak_strain: 0.3,
             skip: false,
+            compaction: CompactionConfig::default(),
         }
     }
 }

@@ -306,6 +306,7 @@ fn write_patch_config(
         elastic: card.tests.elastic,
         tensile,
         shear: card.tests.shear,
+        compaction: Default::default(),
         sweep: Default::default(),
         save_samples: false,
     };

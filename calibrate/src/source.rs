@@ -229,6 +229,17 @@ impl MaterialSource {
                 units.card_name()
             )));
         }
+        if let Some(c) = card
+            .verification
+            .as_ref()
+            .and_then(|v| v.compaction.as_ref())
+            .filter(|c| !c.holds())
+        {
+            return Err(CalibrateError::CardCollapses {
+                path: path.display().to_string(),
+                detail: c.describe(),
+            });
+        }
         // The model may carry a design Poisson's ratio (config::design_poisson_ratio); the target's
         // is in the card's targets.
         let mut target = card.model.material.clone();
@@ -277,10 +288,14 @@ pub fn verified_figures(v: &crate::verification::Verification, units: Units) -> 
         ));
     }
     s.push_str(&format!(
-        " d* (eq 22) {} {} (targets: {})",
+        " d* (eq 22) {} {} (targets: {}); {}",
         dem::io::Sig(v.dstar, 4),
         units.length_name(),
-        dem::io::Sig(v.dstar_target, 4)
+        dem::io::Sig(v.dstar_target, 4),
+        v.compaction.as_ref().map_or_else(
+            || "not verified under shear (a card from before the compaction test)".to_string(),
+            |c| c.describe()
+        )
     ));
     s
 }

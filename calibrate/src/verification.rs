@@ -6,6 +6,9 @@
 //! from the target, relative) and every sample's value; and d* of paper 000 eq (22) from the measured
 //! means, d* = 32 gamma G / sigma_T^2 with G = E / (2 (1 + nu)), beside the same formula on the targets.
 //!
+//! Every sample is also sheared under normal load (`dem::scenario::patch::compaction`): a packing
+//! that compacts when it flows is reported (`compaction`), and the scenarios refuse such a card.
+//!
 //! Each sample's result is a job of `dem::jobs` keyed by its inputs (recipe and seed, model,
 //! relaxation and test settings) under `DIR/verify/`, so a rerun costs nothing. A sample whose
 //! relaxation or test fails under the card is kept in the table with the reason: the card did not
@@ -14,6 +17,7 @@
 use dem::jobs::JobCache;
 use dem::material::{Material, PairModel};
 use dem::sample::{RelaxConfig, SampleSpec};
+use dem::scenario::patch::CompactionResult;
 use serde::{Deserialize, Serialize};
 use wear::scales::critical_junction_size;
 
@@ -79,6 +83,56 @@ pub struct VerifiedSample {
     /// Why the sample gave no values (relaxation or test failure under the card); none when it did.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub failure: Option<String>,
+    /// Largest compaction of the shear-under-load test (fraction of the sample height); none where
+    /// not measured (a failed sample, a card verified before the test existed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub compaction: Option<f64>,
+}
+
+/// The shear-under-load test over the verification samples: does the card's packing hold its volume
+/// when it flows (`dem::scenario::patch::compaction`)?
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CompactionCheck {
+    /// Normal pressure as a fraction of E.
+    pub pressure: f64,
+    /// Shear strain the test runs to.
+    pub strain: f64,
+    /// Compaction (fraction of the sample height) above which a sample counts as collapsing.
+    pub limit: f64,
+    /// Each measured sample's largest compaction, in the order of `samples`.
+    pub values: Vec<f64>,
+    /// Samples past the limit.
+    pub collapsed: usize,
+}
+
+impl CompactionCheck {
+    /// Whether every measured sample held (none past the limit).
+    pub fn holds(&self) -> bool {
+        self.collapsed == 0
+    }
+    /// One line for summaries and scenario logs.
+    pub fn describe(&self) -> String {
+        let largest = self
+            .values
+            .iter()
+            .cloned()
+            .fold(f64::NEG_INFINITY, f64::max);
+        format!(
+            "shear under {} E to strain {}: largest compaction {:.1} % (limit {:.0} %), {} of {} samples \
+             collapsing{}",
+            self.pressure,
+            self.strain,
+            100.0 * largest,
+            100.0 * self.limit,
+            self.collapsed,
+            self.values.len(),
+            if self.holds() {
+                ""
+            } else {
+                ": the packing is pulled into itself when it flows, a junction with this card collapses"
+            }
+        )
+    }
 }
 
 /// The `[verification]` table of a card.
@@ -99,6 +153,9 @@ pub struct Verification {
     pub tensile_strength: Check,
     pub shear_strength: Check,
     pub surface_energy: Check,
+    /// The shear-under-load test; none for cards verified before it existed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub compaction: Option<CompactionCheck>,
 }
 
 impl Verification {
@@ -139,6 +196,8 @@ struct SampleResult {
     deep_overlaps: Option<f64>,
     separated: bool,
     outcome: std::result::Result<Properties, EvalFailure>,
+    #[serde(default)]
+    compaction: Option<CompactionResult>,
 }
 
 /// Everything a verification needs besides the model.
@@ -175,6 +234,9 @@ pub fn verify(
     }
     let mut tests = *inp.tests;
     tests.tensile.post_peak_strain = inp.settings.post_peak_strain;
+    // Always sheared under load: the check a scenario needs of a card.
+    let compaction_cfg = inp.settings.compaction;
+    tests.compaction = Some(compaction_cfg);
     let all = [
         Target::YoungModulus,
         Target::PoissonRatio,
@@ -197,6 +259,7 @@ pub fn verify(
                 deep_overlaps: None,
                 separated: false,
                 outcome: Err(f),
+                compaction: None,
             },
             Ok(sample) => {
                 let m = measure_on(&sample, model, &all, &tests);
@@ -208,6 +271,7 @@ pub fn verify(
                         .as_ref()
                         .and_then(|r| r.coordination.deep_overlaps),
                     separated: m.as_ref().ok().and_then(|m| m.separated).unwrap_or(false),
+                    compaction: m.as_ref().ok().and_then(|m| m.compaction.clone()),
                     outcome: m.map(|m| m.properties),
                 }
             }
@@ -241,6 +305,7 @@ pub fn verify(
                 .as_ref()
                 .err()
                 .map(|EvalFailure(e)| format!("{}: {e}", describe(spec))),
+            compaction: r.compaction.as_ref().map(|c| c.largest_compaction),
         })
         .collect();
     let props: Vec<&Properties> = results
@@ -268,6 +333,17 @@ pub fn verify(
         check(Target::ShearStrength)?,
         check(Target::SurfaceEnergy)?,
     );
+    let values: Vec<f64> = samples.iter().filter_map(|s| s.compaction).collect();
+    let compaction = CompactionCheck {
+        pressure: compaction_cfg.pressure,
+        strain: compaction_cfg.strain,
+        limit: compaction_cfg.max_compaction,
+        collapsed: values
+            .iter()
+            .filter(|&&c| c > compaction_cfg.max_compaction)
+            .count(),
+        values,
+    };
     let dstar = critical_junction_size(g.mean, e.mean, nu.mean, st.mean);
     let dstar_target = critical_junction_size(g.target, e.target, nu.target, st.target);
     Ok(Verification {
@@ -281,5 +357,6 @@ pub fn verify(
         tensile_strength: sn,
         shear_strength: st,
         surface_energy: g,
+        compaction: Some(compaction),
     })
 }

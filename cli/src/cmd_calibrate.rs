@@ -96,12 +96,16 @@ pub(crate) fn verification_lines(v: &Verification, units: &str) -> String {
     );
     for sample in &v.samples {
         s.push_str(&format!(
-            "  {}: {} particles, vf {:.4}{}{}\n",
+            "  {}: {} particles, vf {:.4}{}{}{}\n",
             calibrate::recipe::describe(&sample.spec),
             sample.particles,
             sample.volume_fraction,
             sample.deep_overlaps.map_or(String::new(), |d| format!(
                 ", {d:.3} deep overlaps per particle"
+            )),
+            sample.compaction.map_or(String::new(), |c| format!(
+                ", compaction under shear {:.2} %",
+                100.0 * c
             )),
             match (&sample.failure, sample.separated) {
                 (Some(f), _) => format!(", FAILED: {f}"),
@@ -109,6 +113,17 @@ pub(crate) fn verification_lines(v: &Verification, units: &str) -> String {
                 (None, false) =>
                     ", tensile test not separated (surface energy a lower bound)".into(),
             }
+        ));
+    }
+    if let Some(c) = &v.compaction {
+        s.push_str(&format!(
+            "{}: {}\n",
+            if c.holds() {
+                "holds under shear"
+            } else {
+                "COLLAPSES under shear"
+            },
+            c.describe()
         ));
     }
     s

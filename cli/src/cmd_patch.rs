@@ -121,8 +121,18 @@ pub fn run(args: PatchArgs, threads: usize) -> Result<()> {
             .shear
             .as_ref()
             .map(|r| format!(" shear {:.4} ({:.1} %)", r.strength, 100.0 * r.ratio));
+        let co = c.compaction.as_ref().map(|r| {
+            format!(
+                " compaction under shear {:.2} % (largest {:.2} %{}) at strain {:.2}, friction {:.2}",
+                100.0 * r.compaction,
+                100.0 * r.largest_compaction,
+                if r.collapsed { ", COLLAPSING" } else { "" },
+                r.shear_strain,
+                r.friction
+            )
+        });
         println!(
-            "case {k}: d0/dc {:?} nu {} s {} n {} vf {:.4} Z {:.2} compressed {:.0} % gap 5-95 % [{:+.3}, {:+.3}]{}{}{}",
+            "case {k}: d0/dc {:?} nu {} s {} n {} vf {:.4} Z {:.2} compressed {:.0} % gap 5-95 % [{:+.3}, {:+.3}]{}{}{}{}",
             c.d0_over_dc,
             c.poisson_ratio,
             c.scaling,
@@ -134,7 +144,8 @@ pub fn run(args: PatchArgs, threads: usize) -> Result<()> {
             c.gaps.quantiles[4],
             e.unwrap_or_default(),
             t.unwrap_or_default(),
-            s.unwrap_or_default()
+            s.unwrap_or_default(),
+            co.unwrap_or_default()
         );
     }
     println!("report: {}", args.out.join("report.json").display());

@@ -3,6 +3,9 @@
 //!
 //! - `curves.png`: stress over the case's target strength (eq 20) against strain, tensile and shear
 //!   side by side, one line per case;
+//! - `compaction.png` (campaigns with the shear-under-load test): compaction (decrease of the wall
+//!   separation since the load was applied, % of L0) against shear strain, one line per case, the
+//!   limit dashed;
 //! - `trends.png` (campaigns of two or more cases): E / E_target, nu, tensile and shear strength
 //!   against d0 / d_c (log scale, when d0 is swept) or against the target nu, one series per scaling
 //!   exponent s, with the targets (nu, eq 20) drawn as dashed lines.
@@ -187,6 +190,12 @@ pub fn draw(report: &PatchReport, dir: &Path) -> Result<Vec<PathBuf>> {
         draw_curves(&path, &tensile, &shear)?;
         written.push(path);
     }
+    let compaction = compaction_series(report, dir)?;
+    if !compaction.is_empty() {
+        let path = dir.join("compaction.png");
+        draw_compaction(&path, &compaction, report.config.compaction.max_compaction)?;
+        written.push(path);
+    }
     if let Some(t) = trends(report) {
         let path = dir.join("trends.png");
         draw_trends(&path, &t)?;
@@ -228,6 +237,60 @@ fn draw_curves(path: &Path, tensile: &[CurveSeries], shear: &[CurveSeries]) -> R
             &as_series(series),
         )?;
     }
+    root.present().map_err(|e| draw_err(path, e))
+}
+
+/// The shear phase of every case's shear-under-load test: (shear strain, compaction in % of L0), the
+/// compaction counted from the normal strain under the load alone (`loaded_strain`).
+pub fn compaction_series(report: &PatchReport, dir: &Path) -> Result<Vec<CurveSeries>> {
+    let mut out = Vec::new();
+    for (k, case) in report.cases.iter().enumerate() {
+        let Some(r) = &case.compaction else { continue };
+        let path = dir.join(format!("case{k}_compaction.csv"));
+        let points = read_columns(&path, 1, 2)?
+            .into_iter()
+            .filter(|(exy, _)| *exy > 0.0)
+            .map(|(exy, eyy)| (exy, 100.0 * (r.loaded_strain - eyy)))
+            .collect();
+        out.push(CurveSeries {
+            label: case_label(report, k),
+            points,
+        });
+    }
+    Ok(out)
+}
+
+fn draw_compaction(path: &Path, cases: &[CurveSeries], limit: f64) -> Result<()> {
+    let mut labels: Vec<&str> = cases.iter().map(|c| c.label.as_str()).collect();
+    let limit_label = "limit (collapsing above)";
+    labels.push(limit_label);
+    let (root, body) = keyed_figure(path, (1000, 560), &labels, 2, None)?;
+    let x_max = cases
+        .iter()
+        .flat_map(|c| c.points.iter().map(|p| p.0))
+        .fold(0.0, f64::max);
+    let mut series: Vec<Series> = cases
+        .iter()
+        .enumerate()
+        .map(|(k, c)| (c.label.clone(), c.points.clone(), Mark::Line, k))
+        .collect();
+    series.push((
+        limit_label.to_string(),
+        vec![(0.0, 100.0 * limit), (x_max, 100.0 * limit)],
+        Mark::Target,
+        cases.len(),
+    ));
+    panel(
+        path,
+        &body,
+        (
+            "shear under normal load",
+            "shear strain eps_xy",
+            "compaction since loading (% of L0)",
+        ),
+        Scale::Linear,
+        &series,
+    )?;
     root.present().map_err(|e| draw_err(path, e))
 }
 

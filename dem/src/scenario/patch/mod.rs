@@ -8,6 +8,8 @@
 //! - [`strength`]: the top wall driven at strain rate 1e-5 / dt along y (tension) or x (shear), damping
 //!   0.01 c_c; the strength is the peak virial stress of the deformable part (Fig. 4b-c). The tensile
 //!   run continues to complete separation and gives the fracture energy.
+//! - [`compaction`]: not in the paper: the top wall pressed with 0.01 E and dragged along x, to see
+//!   whether the packing holds its volume when it flows (the check the junction needs of a card).
 //!
 //! Conventions shared by the tests:
 //! - strain: eps = (change of the wall separation) / L0, with L0 the gap between the innermost wall
@@ -16,6 +18,7 @@
 //!   volume V_free = V_box N_free / N, stretched by (1 + eps_yy). For an HCP lattice this is exactly the
 //!   bond-layer stress: the half-weighted wall bonds complete the free rows.
 
+pub mod compaction;
 pub mod curve;
 pub mod elastic;
 pub mod strength;
@@ -28,6 +31,7 @@ use crate::sample::Sample;
 use crate::scenario::rig::RigSpec;
 
 pub use crate::io::progress::ProgressFile;
+pub use compaction::{compaction, CompactionConfig, CompactionResult};
 pub use curve::{Curve, CurvePoint};
 pub use elastic::{elastic, ElasticConfig, ElasticResult};
 pub use strength::{

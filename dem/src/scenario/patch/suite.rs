@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::{
-    elastic, strength_resumable, ElasticConfig, ElasticResult, StrengthConfig, StrengthMode,
-    StrengthResult,
+    compaction, elastic, strength_resumable, CompactionConfig, CompactionResult, ElasticConfig,
+    ElasticResult, StrengthConfig, StrengthMode, StrengthResult,
 };
 use crate::error::{DemError, Result};
 use crate::io::checkpoint::write_atomic;
@@ -25,6 +25,8 @@ pub enum PatchKind {
     Elastic,
     Tensile,
     Shear,
+    /// Shear under normal load (not in the default set: the check of a card, not a property).
+    Compaction,
 }
 
 /// Values swept over (empty: the base value only).
@@ -80,6 +82,9 @@ pub struct PatchSuite {
     /// Shear test settings; default the paper's.
     #[serde(default = "d_shear")]
     pub shear: StrengthConfig,
+    /// Shear-under-load test settings; default [`CompactionConfig::default`].
+    #[serde(default)]
+    pub compaction: CompactionConfig,
     /// Sweep over d0, nu, s; default none.
     #[serde(default)]
     pub sweep: Sweep,
@@ -117,6 +122,9 @@ pub struct PatchCase {
     pub elastic: Option<ElasticResult>,
     pub tensile: Option<StrengthResult>,
     pub shear: Option<StrengthResult>,
+    /// Absent in reports written before the test existed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub compaction: Option<CompactionResult>,
 }
 
 /// Results of a campaign.
@@ -261,6 +269,7 @@ pub fn run_suite(suite: &PatchSuite, out: Option<&Path>, par: Parallelism) -> Re
                     elastic: None,
                     tensile: None,
                     shear: None,
+                    compaction: None,
                 };
                 // The strength tests keep their progress beside the report, so an interrupted case
                 // continues inside its test instead of starting over.
@@ -289,6 +298,10 @@ pub fn run_suite(suite: &PatchSuite, out: Option<&Path>, par: Parallelism) -> Re
                                 par,
                                 p_shear.as_ref(),
                             )?)
+                        }
+                        PatchKind::Compaction => {
+                            case.compaction =
+                                Some(compaction(&sample, &model, &suite.compaction, par)?)
                         }
                     }
                 }
@@ -355,6 +368,10 @@ fn write_case_curves(dir: &Path, k: usize, case: &PatchCase) -> Result<()> {
     }
     if let Some(r) = &case.shear {
         r.curve.write_csv(&dir.join(format!("case{k}_shear.csv")))?;
+    }
+    if let Some(r) = &case.compaction {
+        r.curve
+            .write_csv(&dir.join(format!("case{k}_compaction.csv")))?;
     }
     Ok(())
 }

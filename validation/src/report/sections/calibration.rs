@@ -231,6 +231,28 @@ fn run(ctx: &Context) -> Result<SectionOutput> {
                 .note(note),
             );
         }
+        if let Some(c) = &v.compaction {
+            let largest = c.values.iter().cloned().fold(f64::NAN, f64::max);
+            claims.push(
+                Claim::new(
+                    "workbench",
+                    "verification",
+                    format!(
+                        "largest compaction under shear ({} E, strain {}) on the fresh sample \
+                         (fraction of its height)",
+                        c.pressure, c.strain
+                    ),
+                    c.limit,
+                    largest,
+                    Tolerance::Below,
+                )
+                .note(
+                    "The check a scenario needs of a card (docs/calibration.md, \"Shear under \
+                     load\"): the calibrated silica cards passed every patch test and compacted \
+                     until the walls met in the junction. Scenarios refuse a card past the limit.",
+                ),
+            );
+        }
         claims.push(
             Claim::new(
                 "000",

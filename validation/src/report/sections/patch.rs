@@ -71,6 +71,7 @@ fn suite(nu: f64, s: f64, sample: SampleSpec, tests: Vec<PatchKind>, post_peak: 
         elastic: ElasticConfig::default(),
         tensile: strength(StrengthMode::Tensile),
         shear: strength(StrengthMode::Shear),
+        compaction: Default::default(),
         sweep: Sweep::default(),
         save_samples: false,
     }
