@@ -110,13 +110,13 @@ impl CompactionCheck {
     pub fn holds(&self) -> bool {
         self.collapsed == 0
     }
+    /// The largest compaction over the measured samples (NaN when none was measured).
+    pub fn largest(&self) -> f64 {
+        self.values.iter().cloned().fold(f64::NAN, f64::max)
+    }
     /// One line for summaries and scenario logs.
     pub fn describe(&self) -> String {
-        let largest = self
-            .values
-            .iter()
-            .cloned()
-            .fold(f64::NEG_INFINITY, f64::max);
+        let largest = self.largest();
         format!(
             "shear under {} E to strain {}: largest compaction {:.1} % (limit {:.0} %), {} of {} samples \
              collapsing{}",
@@ -338,9 +338,9 @@ pub fn verify(
         pressure: compaction_cfg.pressure,
         strain: compaction_cfg.strain,
         limit: compaction_cfg.max_compaction,
-        collapsed: values
+        collapsed: results
             .iter()
-            .filter(|&&c| c > compaction_cfg.max_compaction)
+            .filter(|r| r.compaction.as_ref().is_some_and(|c| c.collapsed))
             .count(),
         values,
     };

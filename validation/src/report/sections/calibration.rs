@@ -232,7 +232,6 @@ fn run(ctx: &Context) -> Result<SectionOutput> {
             );
         }
         if let Some(c) = &v.compaction {
-            let largest = c.values.iter().cloned().fold(f64::NAN, f64::max);
             claims.push(
                 Claim::new(
                     "workbench",
@@ -243,7 +242,7 @@ fn run(ctx: &Context) -> Result<SectionOutput> {
                         c.pressure, c.strain
                     ),
                     c.limit,
-                    largest,
+                    c.largest(),
                     Tolerance::Below,
                 )
                 .note(
