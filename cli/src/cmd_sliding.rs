@@ -54,8 +54,11 @@ pub fn run(args: SlidingArgs, threads: usize) -> Result<()> {
                 format!(", p_T / tau_flow = {ratio:.2} with tau_flow = {flow:.3} sigma_m")
             },
         );
+        let agitation = s
+            .agitation
+            .map_or(String::new(), |a| format!(", agitation {a:.3} v0"));
         println!(
-            "{}: rho_TBL = {:.3} rho_0, h_TBL = {:.3} H, p_T = {:.4e} E (p_T / tau_m = {:.2}, \
+            "{}: rho_TBL = {:.3} rho_0, h_TBL = {:.3} H{agitation}, p_T = {:.4e} E (p_T / tau_m = {:.2}, \
              p_T / (tau_m rho_TBL) = {:.2}; tau_m = {:.3} sigma_m, {}{flow}) at p_N = {} E ({} particles, \
              {} steps, {:.1} s + {:.1} s relaxation)",
             s.regime.label(),

@@ -93,6 +93,20 @@ fn the_top_body_slides_at_v0_carries_p_n_and_threads_do_not_matter() {
         (binned - mass).abs() < 1e-4 * mass,
         "{binned} against {mass}"
     );
+    // Agitation: none in the bottom body's lowest bin (at rest), the top body's vertical bounce
+    // alone in its highest bin (it slides at exactly v0), the most in the sheared layer, and less
+    // than the sliding speed itself.
+    let a = &r.profile.agitation_over_v0;
+    let first = u.iter().position(|v| v.is_some()).unwrap();
+    assert_eq!(a[first], Some(0.0), "bottom body's bin");
+    let last = u.iter().rposition(|v| v.is_some()).unwrap();
+    let layer = r.layer.agitation.expect("a sliding layer has an agitation");
+    assert!(layer > 1e-3 && layer < 1.0, "layer agitation {layer}");
+    assert!(
+        a[last].unwrap() < layer,
+        "top body's bin {:?}, layer {layer}",
+        a[last]
+    );
     assert!(r.rho_tbl > 0.2 && r.rho_tbl < 1.3, "rho_TBL {}", r.rho_tbl);
     assert!(r.h_tbl >= 0.0 && r.h_tbl <= 1.0);
     assert!(r.p_t.is_finite() && r.p_t > 0.0, "p_T {}", r.p_t);

@@ -3,9 +3,10 @@
 //! for the run and its strength tests), the run (resumable), and its outputs:
 //! - `summary.json`: `rho_tbl` (over rho_0), `h_tbl` (over H), `p_t`, `p_n`, `regime`, `tau_m` (over
 //!   E, measured on the run's own relaxed box with the patch-test rig unless the config gives it, and
-//!   `tau_m_how`), `p_t_over_tau_m`, with the material (sigma_m, gamma, d*), the cost and the settings;
+//!   `tau_m_how`), `p_t_over_tau_m`, the layer's `agitation` (over v0), with the material (sigma_m,
+//!   gamma, d*), the cost and the settings;
 //! - `profiles.csv`: the steady profiles over y / H (velocity over v0, density over rho_0 raw and
-//!   Savitzky-Golay filtered, the fitted Gaussian);
+//!   Savitzky-Golay filtered, the fitted Gaussian, agitation over v0);
 //! - `windows.csv`: h_TBL / H and rho_TBL / rho_0 per window against the slide (Fig. 5);
 //! - `force.csv`: the horizontal and normal pair forces on the two bodies and p_T;
 //! - `sliding.dump`: LAMMPS-style frames (OVITO) with `half` and `height0` columns;
@@ -123,6 +124,11 @@ pub struct SlidingSummary {
     pub tau_flow_over_sigma_m: Option<f64>,
     #[serde(default)]
     pub p_t_over_tau_flow: Option<f64>,
+    /// The steady TBL's agitation over v0: the root mean square velocity fluctuation per component
+    /// about the mean flow in the layer's bins (`wear::tbl::layer_agitation`); none without a layer.
+    /// The layer's shear stress falls as it rises (docs/sliding.md).
+    #[serde(default)]
+    pub agitation: Option<f64>,
     pub strength: f64,
     pub surface_energy: f64,
     pub d_star: f64,
@@ -396,6 +402,7 @@ pub fn run_sliding_with(
         tau_flow: tau.tau_flow.map(|t| t / cfg.young_modulus),
         tau_flow_over_sigma_m: tau.tau_flow.map(|t| t / cfg.material.strength),
         p_t_over_tau_flow: tau.tau_flow.map(|t| r.p_t / t),
+        agitation: r.layer.agitation,
         strength: cfg.material.strength,
         surface_energy: cfg.surface_energy()?,
         d_star: r.d_star,
@@ -459,14 +466,14 @@ pub fn run_grid(
         vec![None; runs.len()]
     };
     let mut csv = String::from(
-        "p_n,strength,d_star,rho_tbl,h_tbl,p_t,tau_m,p_t_over_tau_m,p_t_over_tau_rho,tau_flow,p_t_over_tau_flow,regime,particles,run_seconds,key\n",
+        "p_n,strength,d_star,rho_tbl,h_tbl,p_t,tau_m,p_t_over_tau_m,p_t_over_tau_rho,tau_flow,p_t_over_tau_flow,agitation,regime,particles,run_seconds,key\n",
     );
     for (cfg, r) in runs.iter().zip(&results) {
         let key = JobCache::key(cfg)?;
         let line = match r {
             Some(s) => writeln!(
                 csv,
-                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
                 s.p_n,
                 s.strength,
                 s.d_star,
@@ -478,6 +485,7 @@ pub fn run_grid(
                 s.p_t_over_tau_rho,
                 opt(s.tau_flow),
                 opt(s.p_t_over_tau_flow),
+                opt(s.agitation),
                 s.regime.label(),
                 s.particles,
                 s.run_seconds,
@@ -485,7 +493,7 @@ pub fn run_grid(
             ),
             None => writeln!(
                 csv,
-                "{},{},{},,,,,,,,,pending,,,{}",
+                "{},{},{},,,,,,,,,,pending,,,{}",
                 cfg.pressure,
                 cfg.material.strength,
                 cfg.d_star()?,
@@ -526,13 +534,20 @@ fn write_outputs(
         },
     )?;
     let centres = r.profile.centres();
-    let mut csv =
-        String::from("y_over_h,velocity_over_v0,density_over_rho0,density_filtered,gauss_fit\n");
+    let mut csv = String::from(
+        "y_over_h,velocity_over_v0,density_over_rho0,density_filtered,gauss_fit,agitation_over_v0\n",
+    );
     for (k, y) in centres.iter().enumerate() {
-        let v = r.profile.velocity_over_v0[k].map_or(String::new(), |v| v.to_string());
+        let opt = |v: Option<&Option<f64>>| {
+            v.copied()
+                .flatten()
+                .map_or(String::new(), |v| v.to_string())
+        };
+        let v = opt(r.profile.velocity_over_v0.get(k));
+        let a = opt(r.profile.agitation_over_v0.get(k));
         writeln!(
             csv,
-            "{y},{v},{},{},{}",
+            "{y},{v},{},{},{},{a}",
             r.profile.density[k] / r.rho0,
             r.layer.density_filtered[k],
             r.layer.fit.at(*y)

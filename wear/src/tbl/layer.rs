@@ -2,6 +2,10 @@
 //! thresholds (0.1 v0 and 0.9 v0), the Savitzky-Golay filtered density (order 3, 7 samples) that the
 //! figures draw, and rho_TBL / rho_0 from the Gaussian fitted to the unfiltered density.
 //!
+//! The layer's agitation is the root mean square of the bins' agitation (`profile` module docs)
+//! over the bins whose centres lie within the TBL boundaries, each bin weighted alike as the density
+//! fit weights them.
+//!
 //! Decision (the fitted range): the density falls to zero above the top body and is a solid's at the
 //! rigid bodies; the fit covers only the bins of the free particles, the range [lo, hi] over H that
 //! the caller gives (the scenario passes the inner faces of its bodies), so that the ends of the
@@ -50,6 +54,22 @@ pub struct LayerMeasures {
     pub fit: GaussFit,
     /// rho_TBL / rho_0: the fitted curve's minimum.
     pub rho_tbl: f64,
+    /// The TBL's agitation over v0 ([`layer_agitation`]; `None` without boundaries or squares).
+    #[serde(default)]
+    pub agitation: Option<f64>,
+}
+
+/// Root mean square of the bins' agitation over v0 for the bins with centres in the TBL `bounds`
+/// (`None` when no such bin has one).
+pub fn layer_agitation(profile: &Profile, bounds: &TblBounds) -> Option<f64> {
+    let (sum, n) = profile
+        .centres()
+        .iter()
+        .zip(&profile.agitation_over_v0)
+        .filter(|(&c, _)| c >= bounds.lo && c <= bounds.hi)
+        .filter_map(|(_, a)| *a)
+        .fold((0.0, 0usize), |(s, n), a| (s + a * a, n + 1));
+    (n > 0).then(|| (sum / n as f64).sqrt())
 }
 
 /// Measures `profile` with `rho0` the bulk density and the fit over the bins with centres in
@@ -81,7 +101,9 @@ pub fn measure_layer(
         .map(|(&c, &r)| (c, r))
         .unzip();
     let fit = fit_gaussian_dip(&x, &y, params.min_width)?;
+    let agitation = bounds.as_ref().and_then(|b| layer_agitation(profile, b));
     Ok(LayerMeasures {
+        agitation,
         bounds,
         density_filtered,
         rho_tbl: fit.minimum,
@@ -115,6 +137,17 @@ mod tests {
                     }
                 })
                 .collect(),
+            // Agitation 0.2 v0 inside the layer (0.42-0.58), 0.01 v0 outside.
+            agitation_over_v0: c
+                .iter()
+                .map(|&y| {
+                    Some(if (0.42..=0.58).contains(&y) {
+                        0.2
+                    } else {
+                        0.01
+                    })
+                })
+                .collect(),
             height: 1.0,
             v0: 0.1,
         };
@@ -125,6 +158,17 @@ mod tests {
             "{b:?}"
         );
         assert!((m.rho_tbl - 0.7).abs() < 1e-6, "{:?}", m.fit);
+        assert!(
+            (m.agitation.unwrap() - 0.2).abs() < 1e-12,
+            "{:?}",
+            m.agitation
+        );
+        // Unknown squares, or no layer: no agitation.
+        let unknown = Profile {
+            agitation_over_v0: vec![None; n],
+            ..profile.clone()
+        };
+        assert_eq!(layer_agitation(&unknown, &b), None);
         // The filter keeps a smooth profile (error of a cubic fit to a Gaussian of 16 bins' width).
         assert!((m.density_filtered[200] - profile.density[200] / rho0).abs() < 1e-3);
         assert!(measure_layer(&profile, 0.0, (0.05, 0.9), &LayerParams::default()).is_err());

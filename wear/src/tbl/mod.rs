@@ -20,8 +20,8 @@ pub mod regime;
 pub use bounds::{tbl_bounds, TblBounds};
 pub use filter::{moving_average, savitzky_golay};
 pub use fit::{fit_gaussian_dip, GaussFit};
-pub use layer::{measure_layer, LayerMeasures, LayerParams};
-pub use profile::{sphere_slab_volume, Bins, Profile, ProfileSums};
+pub use layer::{layer_agitation, measure_layer, LayerMeasures, LayerParams};
+pub use profile::{sphere_slab_volume, Bins, Profile, ProfileParticles, ProfileSums};
 pub use regime::{
     classify_regime, erratic_spread, shear_traction, steady_mean, Regime, RegimeData, RegimeParams,
 };

@@ -9,6 +9,13 @@
 //! that the bin's slab cuts out of its sphere (exact: the volume of a spherical segment), so the profile
 //! is a mass density whose integral over the height is the mass of the system, and a homogeneous solid
 //! reads as a flat profile at its bulk density.
+//!
+//! The agitation of a bin (the granular temperature's square root, in units of v0) is
+//! sqrt((<|v|^2> - <v_x>^2) / 3) / v0 over the particles whose centres fall in it, all samples
+//! together. Decision (mean flow): the mean velocity is taken along x only, the sliding direction; the
+//! mean v_y and v_z of a bin vanish in steady sliding (constant height, periodic z), and what the bin's
+//! mean v_x does from sample to sample counts as agitation, as it is motion the mean flow does not
+//! carry. Measured because the sheared layer's shear stress falls as it heats (docs/sliding.md).
 
 use serde::{Deserialize, Serialize};
 
@@ -62,12 +69,27 @@ impl Bins {
     }
 }
 
+/// One sample's particles, one entry each: centre heights, radii, masses, horizontal velocities and
+/// squared speeds |v|^2.
+#[derive(Debug, Clone, Copy)]
+pub struct ProfileParticles<'a> {
+    pub y: &'a [f64],
+    pub radius: &'a [f64],
+    pub mass: &'a [f64],
+    pub vx: &'a [f64],
+    pub speed_sq: &'a [f64],
+}
+
 /// Sums of a profile over samples taken at possibly different heights H (each sample bins its own
-/// height): per bin, the sum of horizontal velocities and the particle count, and the sum of the mass
-/// densities of the samples.
+/// height): per bin, the sum of horizontal velocities, of squared speeds and the particle count, and
+/// the sum of the mass densities of the samples.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ProfileSums {
     pub velocity: Vec<f64>,
+    /// Sum of |v|^2 per bin; empty when unknown (sums saved before it was recorded, or merged with
+    /// such sums): the profile then has no agitation.
+    #[serde(default)]
+    pub speed_sq: Vec<f64>,
     pub count: Vec<u64>,
     pub density: Vec<f64>,
     /// Samples added.
@@ -82,6 +104,7 @@ impl ProfileSums {
     pub fn new(n: usize) -> Self {
         ProfileSums {
             velocity: vec![0.0; n],
+            speed_sq: vec![0.0; n],
             count: vec![0; n],
             density: vec![0.0; n],
             samples: 0,
@@ -93,6 +116,9 @@ impl ProfileSums {
     /// Back to empty (keeps the buffers).
     pub fn clear(&mut self) {
         self.velocity.iter_mut().for_each(|v| *v = 0.0);
+        // Empty sums know their squares again (an old checkpoint's window is over).
+        self.speed_sq.resize(self.count.len(), 0.0);
+        self.speed_sq.iter_mut().for_each(|v| *v = 0.0);
         self.count.iter_mut().for_each(|v| *v = 0);
         self.density.iter_mut().for_each(|v| *v = 0.0);
         self.samples = 0;
@@ -100,28 +126,46 @@ impl ProfileSums {
         self.v0 = 0.0;
     }
 
-    /// Adds one sample: particle heights `y`, radii `r`, masses `m`, horizontal velocities `vx`, binned
-    /// over `bins`; `area` is the cross-section normal to the height (bin volume = area x width), `v0`
-    /// the reference velocity of the sample (the top body's). Particles outside the bins add nothing.
+    /// Adds one sample of particles binned over `bins`; `area` is the cross-section normal to the
+    /// height (bin volume = area x width), `v0` the reference velocity of the sample (the top body's).
+    /// Particles outside the bins add nothing.
     pub fn add(
         &mut self,
         bins: &Bins,
-        (y, r, m, vx): (&[f64], &[f64], &[f64], &[f64]),
+        particles: ProfileParticles,
         area: f64,
         v0: f64,
     ) -> Result<()> {
+        let ProfileParticles {
+            y,
+            radius: r,
+            mass: m,
+            vx,
+            speed_sq: v2,
+        } = particles;
         let n = y.len();
-        if r.len() != n || m.len() != n || vx.len() != n || self.count.len() != bins.n {
+        if r.len() != n
+            || m.len() != n
+            || vx.len() != n
+            || v2.len() != n
+            || self.count.len() != bins.n
+        {
             return Err(WearError::Setting(format!(
-                "a profile sample needs one height, radius, mass and velocity per particle and the \
-                 sums' bin count ({} bins, {} heights, {} radii, {} masses, {} velocities)",
+                "a profile sample needs one height, radius, mass, velocity and squared speed per \
+                 particle and the sums' bin count ({} bins, {} heights, {} radii, {} masses, {} \
+                 velocities, {} squared speeds)",
                 bins.n,
                 n,
                 r.len(),
                 m.len(),
-                vx.len()
+                vx.len(),
+                v2.len()
             )));
         }
+        if self.samples == 0 {
+            self.speed_sq.resize(bins.n, 0.0);
+        }
+        let squares = self.speed_sq.len() == bins.n;
         if !(area.is_finite() && area > 0.0) {
             return Err(WearError::Setting(format!(
                 "profile cross-section {area} must be positive"
@@ -132,6 +176,9 @@ impl ProfileSums {
         for i in 0..n {
             if let Some(k) = bins.index(y[i]) {
                 self.velocity[k] += vx[i];
+                if squares {
+                    self.speed_sq[k] += v2[i];
+                }
                 self.count[k] += 1;
             }
             let sphere = 4.0 / 3.0 * std::f64::consts::PI * r[i] * r[i] * r[i];
@@ -163,8 +210,19 @@ impl ProfileSums {
                 other.count.len()
             )));
         }
-        for k in 0..self.count.len() {
+        let n = self.count.len();
+        if self.samples == 0 && self.speed_sq.len() != n {
+            self.speed_sq.resize(n, 0.0);
+        }
+        if other.samples > 0 && other.speed_sq.len() != n {
+            self.speed_sq.clear();
+        }
+        let squares = self.speed_sq.len() == n;
+        for k in 0..n {
             self.velocity[k] += other.velocity[k];
+            if squares && other.samples > 0 {
+                self.speed_sq[k] += other.speed_sq[k];
+            }
             self.count[k] += other.count[k];
             self.density[k] += other.density[k];
         }
@@ -174,12 +232,23 @@ impl ProfileSums {
         Ok(())
     }
 
-    /// The averaged profile: mean velocity over the mean v0 per bin (`None` where no particle centre
-    /// fell), and mean density per bin.
+    /// The averaged profile: mean velocity and agitation over the mean v0 per bin (`None` where no
+    /// particle centre fell, or the squares are unknown), and mean density per bin.
     pub fn profile(&self) -> Profile {
         let s = self.samples.max(1) as f64;
         let v0 = self.v0 / s;
+        let squares = self.speed_sq.len() == self.count.len();
         Profile {
+            agitation_over_v0: (0..self.count.len())
+                .map(|k| {
+                    let c = self.count[k] as f64;
+                    (squares && c > 0.0).then(|| {
+                        let (mean, mean_sq) = (self.velocity[k] / c, self.speed_sq[k] / c);
+                        // Round-off can leave a tiny negative variance in a bin moving as one.
+                        ((mean_sq - mean * mean).max(0.0) / 3.0).sqrt() / v0
+                    })
+                })
+                .collect(),
             velocity_over_v0: self
                 .velocity
                 .iter()
@@ -198,6 +267,10 @@ impl ProfileSums {
 pub struct Profile {
     /// Mean horizontal velocity over v0 per bin (`None`: no particle centre in the bin).
     pub velocity_over_v0: Vec<Option<f64>>,
+    /// Agitation over v0 per bin, sqrt((<|v|^2> - <v_x>^2) / 3) / v0 (module docs; `None`: no
+    /// particle centre in the bin, or unknown).
+    #[serde(default)]
+    pub agitation_over_v0: Vec<Option<f64>>,
     /// Mass density per bin.
     pub density: Vec<f64>,
     /// Mean height H and reference velocity v0 of the samples.
@@ -216,6 +289,22 @@ impl Profile {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn parts<'a>(
+        y: &'a [f64],
+        radius: &'a [f64],
+        mass: &'a [f64],
+        vx: &'a [f64],
+        speed_sq: &'a [f64],
+    ) -> ProfileParticles<'a> {
+        ProfileParticles {
+            y,
+            radius,
+            mass,
+            vx,
+            speed_sq,
+        }
+    }
 
     #[test]
     fn slabs_cut_the_sphere_exactly() {
@@ -244,9 +333,12 @@ mod tests {
         let m = [1.0, 2.0, 0.5];
         let vx = [0.0, 0.4, 1.0];
         let mut s = ProfileSums::new(8);
-        s.add(&bins, (&y, &r, &m, &vx), 1.0, 1.0).unwrap();
+        s.add(&bins, parts(&y, &r, &m, &vx, &vx.map(|v| v * v)), 1.0, 1.0)
+            .unwrap();
         let mut other = ProfileSums::new(8);
-        other.add(&bins, (&y, &r, &m, &vx), 1.0, 1.0).unwrap();
+        other
+            .add(&bins, parts(&y, &r, &m, &vx, &vx.map(|v| v * v)), 1.0, 1.0)
+            .unwrap();
         s.merge(&other).unwrap();
         assert!(s.merge(&ProfileSums::new(3)).is_err());
         assert_eq!(s.samples, 2);
@@ -266,8 +358,13 @@ mod tests {
         assert_eq!(p.centres()[0], 1.0 / 16.0);
         // Particles partly outside the bins put in only what is inside.
         let mut edge = ProfileSums::new(8);
-        edge.add(&bins, (&[0.1], &[0.3], &[1.0], &[0.0]), 1.0, 1.0)
-            .unwrap();
+        edge.add(
+            &bins,
+            parts(&[0.1], &[0.3], &[1.0], &[0.0], &[0.0]),
+            1.0,
+            1.0,
+        )
+        .unwrap();
         let inside: f64 = edge.density.iter().map(|d| d * bins.width()).sum();
         let expect =
             sphere_slab_volume(0.1, 0.3, 0.0, 1.0) / (4.0 / 3.0 * std::f64::consts::PI * 0.027);
@@ -291,7 +388,9 @@ mod tests {
         }
         let bins = Bins::new(0.0, 20.0, 80).unwrap();
         let mut s = ProfileSums::new(80);
-        s.add(&bins, (&y, &r, &m, &v), 100.0, 1.0).unwrap();
+        let v2: Vec<f64> = v.iter().map(|v| v * v).collect();
+        s.add(&bins, parts(&y, &r, &m, &v, &v2), 100.0, 1.0)
+            .unwrap();
         let p = s.profile();
         // Each unit layer holds one sphere's mass per unit area; thin bins see the sphere's shape, so
         // the mean over a layer is exactly 1.
@@ -308,13 +407,79 @@ mod tests {
         let bins = Bins::new(0.0, 1.0, 4).unwrap();
         let mut s = ProfileSums::new(4);
         assert!(s
-            .add(&bins, (&[0.5], &[0.1, 0.2], &[1.0], &[0.0]), 1.0, 1.0)
+            .add(
+                &bins,
+                parts(&[0.5], &[0.1, 0.2], &[1.0], &[0.0], &[0.0]),
+                1.0,
+                1.0
+            )
             .is_err());
         assert!(s
-            .add(&bins, (&[0.5], &[0.1], &[1.0], &[0.0]), 0.0, 1.0)
+            .add(
+                &bins,
+                parts(&[0.5], &[0.1], &[1.0], &[0.0], &[0.0]),
+                0.0,
+                1.0
+            )
             .is_err());
         assert!(ProfileSums::new(3)
-            .add(&bins, (&[0.5], &[0.1], &[1.0], &[0.0]), 1.0, 1.0)
+            .add(
+                &bins,
+                parts(&[0.5], &[0.1], &[1.0], &[0.0], &[0.0]),
+                1.0,
+                1.0
+            )
             .is_err());
+        assert!(s
+            .add(&bins, parts(&[0.5], &[0.1], &[1.0], &[0.0], &[]), 1.0, 1.0)
+            .is_err());
+    }
+
+    #[test]
+    fn agitation_is_the_velocity_spread_about_the_bins_mean_flow() {
+        // One bin; two samples of two particles each. Velocities (vx, vy, vz): sample 1 (1, 0, 0) and
+        // (3, 0, 0), sample 2 (2, 1, 0) and (2, -1, 0): mean vx 2 over the four, <|v|^2> = (1 + 9 + 5
+        // + 5) / 4 = 5, so the agitation is sqrt((5 - 4) / 3) / v0 with v0 = 2.
+        let bins = Bins::new(0.0, 1.0, 1).unwrap();
+        let mut s = ProfileSums::new(1);
+        let (y, r, m) = ([0.5, 0.5], [0.1, 0.1], [1.0, 1.0]);
+        s.add(&bins, parts(&y, &r, &m, &[1.0, 3.0], &[1.0, 9.0]), 1.0, 2.0)
+            .unwrap();
+        s.add(&bins, parts(&y, &r, &m, &[2.0, 2.0], &[5.0, 5.0]), 1.0, 2.0)
+            .unwrap();
+        let p = s.profile();
+        assert_eq!(p.velocity_over_v0[0], Some(1.0));
+        let expect = (1.0f64 / 3.0).sqrt() / 2.0;
+        assert!((p.agitation_over_v0[0].unwrap() - expect).abs() < 1e-15);
+        // A bin moving as one has none (the square root of a round-off negative is not taken).
+        let mut rigid = ProfileSums::new(1);
+        rigid
+            .add(
+                &bins,
+                parts(&y, &r, &m, &[0.1, 0.1], &[0.01, 0.01]),
+                1.0,
+                2.0,
+            )
+            .unwrap();
+        assert_eq!(rigid.profile().agitation_over_v0[0], Some(0.0));
+        // Sums saved before the squares were recorded know no agitation, also once merged, until
+        // they are cleared for the next window.
+        let mut old = s.clone();
+        old.speed_sq.clear();
+        assert_eq!(old.profile().agitation_over_v0[0], None);
+        let mut merged = s.clone();
+        merged.merge(&old).unwrap();
+        assert_eq!(merged.profile().agitation_over_v0[0], None);
+        old.add(&bins, parts(&y, &r, &m, &[1.0, 3.0], &[1.0, 9.0]), 1.0, 2.0)
+            .unwrap();
+        assert_eq!(old.profile().agitation_over_v0[0], None);
+        old.clear();
+        old.add(&bins, parts(&y, &r, &m, &[1.0, 3.0], &[1.0, 9.0]), 1.0, 2.0)
+            .unwrap();
+        assert!(old.profile().agitation_over_v0[0].is_some());
+        // Empty sums merged with full ones take their squares.
+        let mut empty = ProfileSums::new(1);
+        empty.merge(&s).unwrap();
+        assert_eq!(empty.profile(), p);
     }
 }

@@ -6,7 +6,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 use wear::tbl::{
     classify_regime, measure_layer, shear_traction, tbl_bounds, Bins, LayerMeasures, LayerParams,
-    Profile, ProfileSums, Regime, RegimeData,
+    Profile, ProfileParticles, ProfileSums, Regime, RegimeData,
 };
 
 use super::{build, SlidingConfig};
@@ -93,8 +93,20 @@ impl Observer for ProfileProbe {
         let p = &sim.particles;
         let y: Vec<f64> = p.pos.iter().map(|x| x.y).collect();
         let vx: Vec<f64> = p.vel.iter().map(|v| v.x).collect();
+        let v2: Vec<f64> = p.vel.iter().map(|v| v.norm_squared()).collect();
         self.current
-            .add(&bins, (&y, &p.radius, &p.mass, &vx), self.area, self.v0)
+            .add(
+                &bins,
+                ProfileParticles {
+                    y: &y,
+                    radius: &p.radius,
+                    mass: &p.mass,
+                    vx: &vx,
+                    speed_sq: &v2,
+                },
+                self.area,
+                self.v0,
+            )
             .map_err(|e| DemError::InvalidConfig(format!("sliding profile: {e}")))?;
         if self.current.samples < self.per_window {
             return Ok(());

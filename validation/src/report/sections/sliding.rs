@@ -437,17 +437,18 @@ fn page(outs: &[RunOut], strengths: &[StrengthOut], profile: Profile) -> String 
     }
     h += "</table>\n";
     h += "<table><tr><th>p_N (E)</th><th>sigma_m (E)</th><th>regime</th><th>rho_TBL / rho_0</th>\
-          <th>h_TBL / H</th><th>p_T (E)</th><th>p_T / tau_m</th><th>p_T / (tau_m rho_TBL / rho_0)</th>\
-          <th>p_T / tau_flow</th><th>particles</th><th>run (s)</th></tr>\n";
+          <th>h_TBL / H</th><th>agitation (v0)</th><th>p_T (E)</th><th>p_T / tau_m</th>\
+          <th>p_T / (tau_m rho_TBL / rho_0)</th><th>p_T / tau_flow</th><th>particles</th><th>run (s)</th></tr>\n";
     for o in outs {
         let r = &o.summary;
         h += &format!(
-            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{:.3}</td><td>{:.3}</td><td>{:.2e}</td><td>{:.2}</td><td>{:.2}</td><td>{}</td><td>{}</td><td>{:.0}</td></tr>\n",
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{:.3}</td><td>{:.3}</td><td>{}</td><td>{:.2e}</td><td>{:.2}</td><td>{:.2}</td><td>{}</td><td>{}</td><td>{:.0}</td></tr>\n",
             r.p_n,
             r.strength,
             esc(r.regime.label()),
             r.rho_tbl,
             r.h_tbl,
+            r.agitation.map_or("-".to_string(), |v| format!("{v:.3}")),
             r.p_t,
             r.p_t_over_tau_m,
             r.p_t_over_tau_rho,
