@@ -538,13 +538,9 @@ fn write_outputs(
         "y_over_h,velocity_over_v0,density_over_rho0,density_filtered,gauss_fit,agitation_over_v0\n",
     );
     for (k, y) in centres.iter().enumerate() {
-        let opt = |v: Option<&Option<f64>>| {
-            v.copied()
-                .flatten()
-                .map_or(String::new(), |v| v.to_string())
-        };
-        let v = opt(r.profile.velocity_over_v0.get(k));
-        let a = opt(r.profile.agitation_over_v0.get(k));
+        let v = opt(r.profile.velocity_over_v0[k]);
+        // Empty for a profile summed before the agitation was recorded.
+        let a = opt(r.profile.agitation_over_v0.get(k).copied().flatten());
         writeln!(
             csv,
             "{y},{v},{},{},{},{a}",
@@ -557,7 +553,6 @@ fn write_outputs(
     write_atomic(&out.join("profiles.csv"), csv.as_bytes())?;
     let mut csv = String::from("step,time,slide_over_l,height,h_tbl,rho_tbl\n");
     for w in &r.windows {
-        let opt = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
         writeln!(
             csv,
             "{},{},{},{},{},{}",

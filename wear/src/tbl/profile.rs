@@ -162,15 +162,15 @@ impl ProfileSums {
                 v2.len()
             )));
         }
-        if self.samples == 0 {
-            self.speed_sq.resize(bins.n, 0.0);
-        }
-        let squares = self.speed_sq.len() == bins.n;
         if !(area.is_finite() && area > 0.0) {
             return Err(WearError::Setting(format!(
                 "profile cross-section {area} must be positive"
             )));
         }
+        if self.samples == 0 {
+            self.speed_sq.resize(bins.n, 0.0);
+        }
+        let squares = self.speed_sq.len() == bins.n;
         let w = bins.width();
         let bin_volume = area * w;
         for i in 0..n {
@@ -211,18 +211,18 @@ impl ProfileSums {
             )));
         }
         let n = self.count.len();
-        if self.samples == 0 && self.speed_sq.len() != n {
+        // The squares stay known only if both sides know theirs (empty sums have none to lose).
+        let known = |s: &ProfileSums| s.samples == 0 || s.speed_sq.len() == n;
+        if known(self) && known(other) {
             self.speed_sq.resize(n, 0.0);
-        }
-        if other.samples > 0 && other.speed_sq.len() != n {
+            for (a, b) in self.speed_sq.iter_mut().zip(&other.speed_sq) {
+                *a += b;
+            }
+        } else {
             self.speed_sq.clear();
         }
-        let squares = self.speed_sq.len() == n;
         for k in 0..n {
             self.velocity[k] += other.velocity[k];
-            if squares && other.samples > 0 {
-                self.speed_sq[k] += other.speed_sq[k];
-            }
             self.count[k] += other.count[k];
             self.density[k] += other.density[k];
         }
