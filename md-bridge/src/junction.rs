@@ -217,13 +217,20 @@ thermo 0",
     let mut frames = vec![pick(&x0)];
     let (mut time, mut force) = (vec![0.0], vec![0.0]);
     let every = frame_steps(cfg, d);
-    let mut x = x0.clone();
+    // Every atom on its continuous path too, for the cluster analysis (it follows each bond's
+    // periodic image from the first frame to the last).
+    let all =
+        |x: &[f64]| -> Vec<[f64; 3]> { (0..n).map(|i| [x[3 * i], x[3 * i + 1], 0.0]).collect() };
+    let mut path = all(&x0);
     for k in 1..=cfg.frames {
         lmp.command(&format!(
             "run {every} pre {} post no",
             if k == 1 { "yes" } else { "no" }
         ))?;
-        x = lmp.gather_f64("x", 3)?;
+        let x = lmp.gather_f64("x", 3)?;
+        let mut now = all(&x);
+        unwrap_frame(&path, &mut now, &per).map_err(wear_err)?;
+        path = now;
         // Unwrap along the periodic x by the displacement since the previous frame (< Lx/2).
         let mut cur = pick(&x);
         unwrap_frame(&frames[frames.len() - 1], &mut cur, &per).map_err(wear_err)?;
@@ -232,8 +239,6 @@ thermo 0",
         force.push(lmp.variable("ft")?);
     }
     // Cluster analysis over every atom, anchored at the two walls (the atoms in the wall slabs).
-    let all =
-        |x: &[f64]| -> Vec<[f64; 3]> { (0..n).map(|i| [x[3 * i], x[3 * i + 1], 0.0]).collect() };
     let anchors: Vec<usize> = (0..n)
         .filter(|&i| x0[3 * i + 1] < wall || x0[3 * i + 1] >= y3 - wall)
         .collect();
@@ -242,8 +247,7 @@ thermo 0",
         margin: cfg.cutoff,
         periodicity: per,
     };
-    let detached =
-        detachment(&all(&x0), &all(&x), &bonding, &members, &anchors).map_err(wear_err)?;
+    let detached = detachment(&all(&x0), &path, &bonding, &members, &anchors).map_err(wear_err)?;
     let verdict = classify(&frames, &force, Some(detached), &cfg.classify).map_err(wear_err)?;
     Ok(JunctionResult {
         n_atoms: n as u64,

@@ -345,6 +345,92 @@ fn clusters_follow_bonds_across_periodic_boundaries() {
 }
 
 #[test]
+fn a_ball_that_rolls_once_round_the_periodic_box_has_lost_its_original_bonds() {
+    // One turn of a ball of radius r rolling on the bottom wall moves its centre by 2 pi r; with that
+    // period along x its bottom members come back next to the wall particles they started bonded to,
+    // and the top wall (twice as fast) brings its own particles back over its top members. Those pairs
+    // parted and met again one period further on: new contacts, so the ball is loose. Compared by
+    // minimum image instead, they would look as if they had never parted and anchor it.
+    let r = 5.0;
+    let period = std::f64::consts::TAU * r;
+    let ball = disc(r, 0.5);
+    let n = ball.len();
+    let row = |y: f64| -> Vec<[f64; 3]> {
+        (0..63)
+            .map(|i| [i as f64 * period / 63.0, y, 0.0])
+            .collect()
+    };
+    let (bottom, top) = (row(-5.5), row(5.5));
+    let frame = |turn: f64| -> Vec<[f64; 3]> {
+        // Clockwise by `turn` turns: the centre advances by r theta, the top wall by 2 r theta
+        // (unwrapped: the positions run on past the period).
+        let th = -turn * std::f64::consts::TAU;
+        let (s, c) = th.sin_cos();
+        let mut f: Vec<[f64; 3]> = ball
+            .iter()
+            .map(|p| [c * p[0] - s * p[1] - r * th, s * p[0] + c * p[1], 0.0])
+            .collect();
+        f.extend(bottom.iter().copied());
+        f.extend(top.iter().map(|p| [p[0] - 2.0 * r * th, p[1], p[2]]));
+        f
+    };
+    let (first, last) = (frame(0.0), frame(1.0));
+    let members: Vec<usize> = (0..n).collect();
+    let anchors: Vec<usize> = (n..first.len()).collect();
+    let bonding = Bonding {
+        radii: None,
+        margin: 0.75,
+        periodicity: Periodicity([Some(period), None, None]),
+    };
+    let d = detachment(&first, &last, &bonding, &members, &anchors).unwrap();
+    assert!(d.initial_bonds > d.surviving_bonds, "{d:?}");
+    assert_eq!(
+        (d.detached_fraction, d.debris_fraction),
+        (1.0, 1.0),
+        "{d:?}"
+    );
+    assert_eq!(d.debris_size, n);
+    // The case does test the lap: by minimum image, ball-wall pairs of the first frame are bonds
+    // again in the last.
+    let per = bonding.periodicity;
+    let ball_wall = |b: &[(usize, usize)]| -> Vec<(usize, usize)> {
+        b.iter()
+            .copied()
+            .filter(|&(i, j)| i < n && j >= n)
+            .collect()
+    };
+    let before = ball_wall(&bonds_within(&first, 0.75, &per));
+    let again = ball_wall(&bonds_within(&last, 0.75, &per));
+    assert!(!before.is_empty());
+    assert!(
+        before.iter().all(|b| again.contains(b)),
+        "{before:?} {again:?}"
+    );
+}
+
+#[test]
+fn a_bond_that_crosses_the_boundary_together_survives() {
+    // Two bonded atoms straddle x = 10 (first frame wrapped: 9.5 and 0.3); both then drift by +1.0 on
+    // their continuous paths (10.5 and 1.3): the same bond in the same image.
+    let per = Periodicity([Some(10.0), None, None]);
+    let bonding = Bonding {
+        radii: Some(vec![0.2, 0.2]),
+        margin: 0.5,
+        periodicity: per,
+    };
+    let first = vec![[9.5, 0.0, 0.0], [0.3, 0.0, 0.0]];
+    let drifted = vec![[10.5, 0.0, 0.0], [1.3, 0.0, 0.0]];
+    let d = detachment(&first, &drifted, &bonding, &[1], &[0]).unwrap();
+    assert_eq!((d.initial_bonds, d.surviving_bonds), (1, 1), "{d:?}");
+    assert_eq!(d.detached_fraction, 0.0);
+    // Atom 1 instead runs a whole period ahead and stops beside atom 0 again: a new contact.
+    let lapped = vec![[9.5, 0.0, 0.0], [10.3, 0.0, 0.0]];
+    let d = detachment(&first, &lapped, &bonding, &[1], &[0]).unwrap();
+    assert_eq!((d.initial_bonds, d.surviving_bonds), (1, 0), "{d:?}");
+    assert_eq!(d.detached_fraction, 1.0);
+}
+
+#[test]
 fn cell_list_matches_brute_force() {
     let mut pos = Vec::new();
     let mut radii = Vec::new();

@@ -177,6 +177,7 @@ pub fn run_resumable(
         })
         .collect();
     let first = Snapshot::of(&rig.sim, &geo.body, &roles);
+    let first_path = unwrapped(&rig.sim);
     let schedule = Schedule {
         name: "junction",
         total,
@@ -220,8 +221,14 @@ pub fn run_resumable(
         margin: model.params(r0, r0, 1.0, 1.0).delta_f,
         periodicity: periodicity(&rig.sim.sim_box),
     };
-    let detached =
-        detachment(&first.pos, &last.pos, &bonding, &geo.members, &walls).map_err(wear_err)?;
+    let detached = detachment(
+        &first_path,
+        &unwrapped(&rig.sim),
+        &bonding,
+        &geo.members,
+        &walls,
+    )
+    .map_err(wear_err)?;
     let verdict =
         classify(&frames.frames, &tangential, Some(detached), &cfg.classify).map_err(wear_err)?;
     let slide = force.samples.last().map_or(0.0, |s| s.displacement[0]);
@@ -240,6 +247,17 @@ pub fn run_resumable(
         last,
         wall_seconds: recorded.wall_seconds,
     })
+}
+
+/// Every particle's position on its continuous path (the cluster analysis follows each bond's
+/// periodic image from the first frame to the last).
+fn unwrapped(sim: &Simulation) -> Vec<[f64; 3]> {
+    (0..sim.particles.len())
+        .map(|i| {
+            let x = sim.unwrapped_position(i);
+            [x.x, x.y, x.z]
+        })
+        .collect()
 }
 
 /// The tangential force at the sample nearest to `step` (0 before the first sample).
