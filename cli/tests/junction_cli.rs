@@ -98,8 +98,18 @@ fn bad_junction_configs_exit_1_with_the_reason() {
     let cases = [
         (
             "wide",
-            format!("{SMALL}diameter = 30.0\n"),
+            format!("{SMALL}diameter = 40.0\n"),
             "does not fit the box",
+        ),
+        (
+            "wide-column",
+            format!("{SMALL}diameter = 30.0\nshape = \"column\"\n"),
+            "does not fit the box",
+        ),
+        (
+            "shape",
+            format!("{SMALL}diameter = 10.0\nshape = \"cone\"\n"),
+            "unknown variant",
         ),
         (
             "walls",

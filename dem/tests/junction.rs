@@ -4,7 +4,9 @@
 
 use dem::material::{Material, PairModel, SiMaterial};
 use dem::sample::{make_sample, RelaxConfig, Sample, SampleSpec};
-use dem::scenario::junction::{build, run, JunctionConfig, JunctionResult};
+use dem::scenario::junction::{
+    build, run, JunctionConfig, JunctionResult, JunctionShape, Monolayer,
+};
 use dem::{DemError, Parallelism, UnitSystem};
 
 /// Paper 000 Table 5 silica in nano units (nm, ns, ag: MPa).
@@ -194,12 +196,29 @@ fn impossible_geometries_are_refused_with_the_reason() {
             "{needle}: {e}"
         );
     };
+    // A ridge has to fit the sliding length (36 nm), a column the width (24 nm) too.
     refused(
         JunctionConfig {
-            diameter: 30.0,
+            diameter: 40.0,
             ..cfg.clone()
         },
         "does not fit the box",
+    );
+    refused(
+        JunctionConfig {
+            diameter: 30.0,
+            shape: JunctionShape::Column,
+            ..cfg.clone()
+        },
+        "does not fit the box",
+    );
+    // A monolayer's junction is the MD junction's strip: the column.
+    refused(
+        JunctionConfig {
+            monolayer: Some(Monolayer::default()),
+            ..cfg.clone()
+        },
+        "set shape = \"column\"",
     );
     refused(
         JunctionConfig {

@@ -8,7 +8,7 @@ mod common;
 use common::*;
 use dem::sample::monolayer::{hex_monolayer, relax_planar};
 use dem::sample::{Sample, SampleSpec};
-use dem::scenario::junction::{run, JunctionConfig, Monolayer};
+use dem::scenario::junction::{run, JunctionConfig, JunctionShape, Monolayer};
 use dem::scenario::monolayer::{measure, MeasureConfig, MonolayerMaterial, Properties2d};
 use dem::{PairModel, Parallelism, RunConfig, Simulation, Vec3};
 use rand::{Rng, SeedableRng};
@@ -224,6 +224,7 @@ fn a_planar_junction_of_the_md_geometry_runs_to_a_verdict() {
         frames: 40,
         force_samples: 400,
         dump_frames: 0,
+        shape: JunctionShape::Column,
         monolayer: Some(Monolayer::default()),
         ..JunctionConfig::default()
     };

@@ -5,7 +5,7 @@ use crate::sample::carve::Shape;
 use crate::sample::Sample;
 use crate::Vec3;
 
-use super::JunctionConfig;
+use super::{JunctionConfig, JunctionShape};
 
 /// Body label of the particles initially below the mid-height (the lower solid and the junction's
 /// lower half).
@@ -24,14 +24,15 @@ pub struct Geometry {
     pub body: Vec<u32>,
     /// The gap between the solids along y, [lo, hi).
     pub gap: (f64, f64),
-    /// Axis of the junction (through the box centre, along y).
+    /// A point on the junction's axis: the box centre.
     pub centre: Vec3,
     /// Particles removed to open the gap.
     pub removed: usize,
 }
 
 /// Carves `relaxed` (a periodic relaxed box) as `cfg` says: the slab of height H around mid-height is
-/// removed except the cylinder of diameter D about the vertical axis through the box centre.
+/// removed except the cylinder of diameter D through the box centre, along the width (ridge) or the
+/// normal (column).
 pub fn build(relaxed: &Sample, cfg: &JunctionConfig) -> Result<Geometry> {
     cfg.validate()?;
     let bx = relaxed.sim_box;
@@ -44,10 +45,9 @@ pub fn build(relaxed: &Sample, cfg: &JunctionConfig) -> Result<Geometry> {
     let h = cfg.height();
     let gap = (c.y - 0.5 * h, c.y + 0.5 * h);
     let l = bx.lengths();
-    let across = if cfg.monolayer.is_some() {
-        l.x
-    } else {
-        l.x.min(l.z)
+    let across = match (cfg.shape, cfg.monolayer.is_some()) {
+        (JunctionShape::Ridge, _) | (_, true) => l.x,
+        (JunctionShape::Column, false) => l.x.min(l.z),
     };
     if cfg.diameter >= across {
         return Err(DemError::InvalidConfig(format!(
@@ -62,7 +62,7 @@ pub fn build(relaxed: &Sample, cfg: &JunctionConfig) -> Result<Geometry> {
     };
     let junction = Shape::Cylinder {
         point: c,
-        direction: Vec3::y(),
+        direction: cfg.shape.axis(),
         radius: 0.5 * cfg.diameter,
     };
     slab.validate()?;
@@ -104,16 +104,9 @@ pub fn build(relaxed: &Sample, cfg: &JunctionConfig) -> Result<Geometry> {
 mod tests {
     use super::*;
 
-    #[test]
-    fn carving_keeps_the_cylinder_and_opens_the_gap() {
-        // A simple cubic set of points stands in for a relaxed sample: the carving is geometry only.
-        let cfg = JunctionConfig {
-            lengths: [30.0, 20.0, 20.0],
-            diameter: 10.0,
-            d0: 1.0,
-            dl: 1.25,
-            ..JunctionConfig::default()
-        };
+    /// A simple cubic set of points (30 x 20 x 20, spacing 1) stands in for a relaxed sample: the
+    /// carving is geometry only.
+    fn grid() -> Sample {
         let mut p = crate::state::Particles::default();
         for i in 0..30 {
             for j in 0..20 {
@@ -128,7 +121,23 @@ mod tests {
         }
         let bx = crate::domain::SimBox::new(Vec3::zeros(), Vec3::new(30.0, 20.0, 20.0), [true; 3])
             .unwrap();
-        let g = build(&Sample::new(p, bx, 1.0, "grid"), &cfg).unwrap();
+        Sample::new(p, bx, 1.0, "grid")
+    }
+
+    fn small(shape: JunctionShape) -> JunctionConfig {
+        JunctionConfig {
+            lengths: [30.0, 20.0, 20.0],
+            diameter: 10.0,
+            shape,
+            d0: 1.0,
+            dl: 1.25,
+            ..JunctionConfig::default()
+        }
+    }
+
+    #[test]
+    fn carving_keeps_the_column_and_opens_the_gap() {
+        let g = build(&grid(), &small(JunctionShape::Column)).unwrap();
         // Gap: y in [7.5, 12.5): rows 7.5 .. 11.5 (5 rows); cylinder radius 5 about (15, 10).
         assert_eq!(g.gap, (7.5, 12.5));
         let in_disc = (0..30)
@@ -145,5 +154,36 @@ mod tests {
             let x = g.sample.particles.pos[i];
             (x.x - 15.0).powi(2) + (x.z - 10.0).powi(2) <= 25.0 && (7.5..12.5).contains(&x.y)
         }));
+    }
+
+    #[test]
+    fn carving_keeps_the_ridge_across_the_width() {
+        let g = build(&grid(), &small(JunctionShape::Ridge)).unwrap();
+        assert_eq!(g.gap, (7.5, 12.5));
+        // The ridge's cross-section in the x-y plane: the gap's 5 rows inside the circle of radius 5
+        // about (15, 10); every one of the 20 layers along z keeps it.
+        let in_section = (0..30)
+            .flat_map(|i| (7..12).map(move |j| (i as f64 + 0.5 - 15.0, j as f64 + 0.5 - 10.0)))
+            .filter(|(x, y)| x * x + y * y <= 25.0)
+            .count();
+        assert_eq!(g.members.len(), 20 * in_section);
+        assert_eq!(g.removed, 5 * 600 - 20 * in_section);
+        assert!(g.members.iter().all(|&i| {
+            let x = g.sample.particles.pos[i];
+            (x.x - 15.0).powi(2) + (x.y - 10.0).powi(2) <= 25.0 && (7.5..12.5).contains(&x.y)
+        }));
+        // A ridge only has to fit the sliding length: as wide as the box's width (20) it is accepted,
+        // a column of that diameter is not (it would touch its image across z).
+        let wide = |shape| JunctionConfig {
+            diameter: 20.0,
+            lengths: [30.0, 60.0, 20.0],
+            ..small(shape)
+        };
+        assert!(wide(JunctionShape::Ridge).validate().is_ok());
+        let err = wide(JunctionShape::Column)
+            .validate()
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("and the width"), "{err}");
     }
 }

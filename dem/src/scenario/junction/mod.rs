@@ -13,10 +13,18 @@
 //!   times the box cross-section); periodic along x and z;
 //! - dt = 0.1 dt_c (eq 6), the pair dampers only (eta of the material), for `duration` (10 ns).
 //!
-//! Decision (the junction's axis): the paper gives a "cylindrical junction of diameter D and height
-//! H = D/2" between two solids; a cylinder bridging the gap has its axis along the normal, so its height
-//! is the gap and its cross-section a disc of diameter D in the sliding plane. A wear particle then
-//! rolls about z, which is what the classifier measures (rotation in the x-y plane).
+//! Decision (the junction's shape): the paper gives a "cylindrical junction of diameter D and height
+//! H = D/2" between two solids, and its figures are side views of a junction that rolls about the
+//! width. Two cylinders fit the words: one lying along the width z (`shape = "ridge"`, the default:
+//! the barrel of it that bridges the gap spans the periodic width, the 3D extrusion of the
+//! quasi-2D junctions of the MD studies the paper reproduces), and one standing along the normal y
+//! (`shape = "column"`, a disc-shaped contact of height H). Measured (docs/junction.md, "The
+//! junction's shape"), closed-form Table 5 silica, the paper's box and load: the ridge reproduces
+//! the paper, D = 20 nm rolls off as a wear particle at d0 = 1.5, 3 and 6 nm and D = 10 nm smooths
+//! (two seeds of three at 3 nm); the column smooths at both sizes and every d0 (18 runs), because a
+//! disc-shaped contact stores less elastic energy per unit of crack area than a ridge of the same
+//! width. So the ridge is the default; the column stays for comparison. A wear particle rolls about
+//! z in either, which is what the classifier measures (rotation in the x-y plane).
 //!
 //! Decision (the smallest junction): paper 000 shears D = 10 nm at d0 = 6 nm, i.e. D = 1.67 d0, so the
 //! geometry accepts D down to 1.5 d0 (`min_diameter_over_d0`); below that the junction is a particle or
@@ -24,8 +32,9 @@
 //!
 //! Quasi-2D variant (`monolayer`, issue 17: the DEM side of the comparison with the 2D MD model
 //! material): the box is a hex monolayer in the x-y plane (`SampleSpec::HexMonolayer`, relaxed in the
-//! plane), run with `RunConfig::planar`; the cylinder about y then cuts the layer in a strip of width
-//! D, the MD junction's shape (`md-bridge::junction`). `pressure` is then a force per unit length of
+//! plane), run with `RunConfig::planar`; the column (the cylinder about y, `shape = "column"`, which a
+//! monolayer requires) then cuts the layer in a strip of width D, the MD junction's shape
+//! (`md-bridge::junction`). `pressure` is then a force per unit length of
 //! the wall (a 2D stress, as the MD `normal_pressure`): the wall's traction is pressure / L_z. The
 //! layer's thickness L_z only keeps particles clear of their own images; the periodic width check
 //! applies to x alone. Why a monolayer: `scenario::monolayer`.
@@ -45,6 +54,27 @@ use crate::sample::RelaxConfig;
 
 pub use crate::scenario::driven::Snapshot;
 pub use geometry::{build, Geometry, BODY_LOWER, BODY_UPPER};
+
+/// Which cylinder of diameter D joins the two solids (module docs, decision on the junction's shape).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum JunctionShape {
+    /// A cylinder lying along the width z, cut by the gap: a ridge across the periodic width.
+    #[default]
+    Ridge,
+    /// A cylinder standing along the normal y: a disc-shaped contact, a column of height H.
+    Column,
+}
+
+impl JunctionShape {
+    /// The cylinder's axis.
+    pub fn axis(self) -> crate::Vec3 {
+        match self {
+            JunctionShape::Ridge => crate::Vec3::z(),
+            JunctionShape::Column => crate::Vec3::y(),
+        }
+    }
+}
 pub use run::{run, run_resumable, JunctionResult};
 
 /// A junction shear run, in the engine's length, time and stress units.
@@ -55,6 +85,10 @@ pub struct JunctionConfig {
     pub lengths: [f64; 3],
     /// Junction diameter D; default 20 (nm), the paper's detaching junction.
     pub diameter: f64,
+    /// The junction's cylinder; default the ridge along the width (module docs: it reproduces the
+    /// paper's outcomes, the column does not). Always written, so that runs of the two shapes, and runs
+    /// classified before the cluster analysis followed periodic images, never share a cache key.
+    pub shape: JunctionShape,
     /// Junction height over D; default 0.5 (H = D/2, paper).
     pub height_over_diameter: f64,
     /// Nominal particle diameter d0; default 6 (nm), the paper's coarsest discretisation.
@@ -146,6 +180,7 @@ impl Default for JunctionConfig {
         JunctionConfig {
             lengths: [60.0, 40.0, 40.0],
             diameter: 20.0,
+            shape: JunctionShape::Ridge,
             height_over_diameter: 0.5,
             d0: 6.0,
             ds_over_d0: 0.75,
@@ -225,15 +260,24 @@ impl JunctionConfig {
                 ));
             }
         }
-        let across = if self.monolayer.is_some() {
-            lx
-        } else {
-            lx.min(lz)
+        if self.monolayer.is_some() && self.shape != JunctionShape::Column {
+            return bad(
+                "a monolayer's junction is the MD junction's strip, which the column cuts from the \
+                 layer: set shape = \"column\""
+                    .into(),
+            );
+        }
+        // A ridge spans the width, so only the sliding length has to hold it; a column must clear its
+        // images along both periodic axes.
+        let across = match (self.shape, self.monolayer.is_some()) {
+            (JunctionShape::Ridge, _) | (_, true) => lx,
+            (JunctionShape::Column, false) => lx.min(lz),
         };
         if d >= across {
             return bad(format!(
                 "a junction of diameter {d} does not fit the box {lx} x {lz} across the sliding plane \
-                 (it must be narrower than both periodic lengths, or it touches its own image)"
+                 (it must be narrower than the sliding length{}, or it touches its own image)",
+                if across == lx { "" } else { " and the width" }
             ));
         }
         if d < self.min_diameter_over_d0 * self.d0 {
