@@ -2,9 +2,9 @@
 //! - `snapshot.png`: side views of the first and last frames, particles drawn as discs coloured by the
 //!   body they initially belonged to (lower blue, upper orange, as the paper's figures), junction
 //!   members in a lighter tint of their body's colour, wall particles darker. A side view of a 3D
-//!   sample would show the front of the solids and hide the junction, so each view is a slice through
-//!   the junction's axis: the particles whose centres lie within D/2 of it along z, drawn back to
-//!   front;
+//!   sample would show the front of the solids and hide the junction, so each view is a slice about
+//!   the box's mid-plane along z (through a column's axis; across a ridge, which spans the width): the
+//!   particles whose centres lie within D/2 of it along z, drawn back to front;
 //! - `force.png`: the tangential (x) and normal (y) pair force on the top wall against the slide
 //!   distance.
 
