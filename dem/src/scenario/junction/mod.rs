@@ -21,9 +21,9 @@
 //! (`shape = "column"`, a disc-shaped contact of height H). Measured (docs/junction.md, "The
 //! junction's shape"), closed-form Table 5 silica, the paper's box and load: the ridge reproduces
 //! the paper, D = 20 nm rolls off as a wear particle at d0 = 1.5, 3 and 6 nm and D = 10 nm smooths
-//! (two seeds of three at 3 nm); the column smooths at both sizes and every d0 (18 runs), because a
-//! disc-shaped contact stores less elastic energy per unit of crack area than a ridge of the same
-//! width. So the ridge is the default; the column stays for comparison. A wear particle rolls about
+//! (two seeds of three at 3 nm); the column smooths at both sizes and every d0 (18 runs; why is not
+//! measured, docs/junction.md gives a reading). So the ridge is the default; the column stays for
+//! comparison. A wear particle rolls about
 //! z in either, which is what the classifier measures (rotation in the x-y plane).
 //!
 //! Decision (the smallest junction): paper 000 shears D = 10 nm at d0 = 6 nm, i.e. D = 1.67 d0, so the
@@ -54,6 +54,7 @@ use crate::sample::RelaxConfig;
 
 pub use crate::scenario::driven::Snapshot;
 pub use geometry::{build, Geometry, BODY_LOWER, BODY_UPPER};
+pub use run::{run, run_resumable, JunctionResult};
 
 /// Which cylinder of diameter D joins the two solids (module docs, decision on the junction's shape).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -75,7 +76,6 @@ impl JunctionShape {
         }
     }
 }
-pub use run::{run, run_resumable, JunctionResult};
 
 /// A junction shear run, in the engine's length, time and stress units.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
