@@ -206,22 +206,18 @@ thermo 0",
             format!("only {} junction atoms", members.len()),
         ));
     }
-    let pick = |x: &[f64]| -> Vec<[f64; 3]> {
-        members
-            .iter()
-            .map(|&i| [x[3 * i], x[3 * i + 1], 0.0])
-            .collect()
-    };
     let wear_err = |e: wear::WearError| MdError::measurement("junction", e.to_string());
     let per = Periodicity([Some(lx), None, None]);
-    let mut frames = vec![pick(&x0)];
     let (mut time, mut force) = (vec![0.0], vec![0.0]);
     let every = frame_steps(cfg, d);
-    // Every atom on its continuous path too, for the cluster analysis (it follows each bond's
-    // periodic image from the first frame to the last).
+    // Every atom on its continuous path, unwrapped along the periodic x by the displacement since
+    // the previous frame (< Lx/2): the members' frames are read from it, and the cluster analysis
+    // follows each bond's periodic image from the first frame to the last.
     let all =
         |x: &[f64]| -> Vec<[f64; 3]> { (0..n).map(|i| [x[3 * i], x[3 * i + 1], 0.0]).collect() };
+    let pick = |path: &[[f64; 3]]| -> Vec<[f64; 3]> { members.iter().map(|&i| path[i]).collect() };
     let mut path = all(&x0);
+    let mut frames = vec![pick(&path)];
     for k in 1..=cfg.frames {
         lmp.command(&format!(
             "run {every} pre {} post no",
@@ -231,10 +227,7 @@ thermo 0",
         let mut now = all(&x);
         unwrap_frame(&path, &mut now, &per).map_err(wear_err)?;
         path = now;
-        // Unwrap along the periodic x by the displacement since the previous frame (< Lx/2).
-        let mut cur = pick(&x);
-        unwrap_frame(&frames[frames.len() - 1], &mut cur, &per).map_err(wear_err)?;
-        frames.push(cur);
+        frames.push(pick(&path));
         time.push(k as f64 * every as f64 * cfg.timestep);
         force.push(lmp.variable("ft")?);
     }

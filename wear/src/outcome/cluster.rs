@@ -18,8 +18,10 @@
 //! box) it comes back over the spot it tore from, and its bottom members lie again next to the surface
 //! particles they were bonded to. By minimum image those pairs looked as if they had never parted and
 //! anchored the rolling body (measured, docs/junction.md: 13 such pairs kept a rolled D = 20 nm ridge
-//! at 0.5 % detached, 97 % once they are counted as new). Plastic flow breaks bonds too, but the flowed material stays bonded to one of the
-//! bodies or falls into many small clusters; so two numbers are reported: the fraction of members
+//! at 0.5 % detached, 97 % once they are counted as new).
+//!
+//! Plastic flow breaks bonds too, but the flowed material stays bonded to one of the bodies or falls
+//! into many small clusters; so two numbers are reported: the fraction of members
 //! with no surviving chain to an anchor, and the fraction in the largest such cluster (the debris).
 
 use std::collections::HashMap;

@@ -5,7 +5,7 @@ use crate::sample::carve::Shape;
 use crate::sample::Sample;
 use crate::Vec3;
 
-use super::{JunctionConfig, JunctionShape};
+use super::JunctionConfig;
 
 /// Body label of the particles initially below the mid-height (the lower solid and the junction's
 /// lower half).
@@ -45,11 +45,7 @@ pub fn build(relaxed: &Sample, cfg: &JunctionConfig) -> Result<Geometry> {
     let h = cfg.height();
     let gap = (c.y - 0.5 * h, c.y + 0.5 * h);
     let l = bx.lengths();
-    let across = match (cfg.shape, cfg.monolayer.is_some()) {
-        (JunctionShape::Ridge, _) | (_, true) => l.x,
-        (JunctionShape::Column, false) => l.x.min(l.z),
-    };
-    if cfg.diameter >= across {
+    if cfg.diameter >= cfg.room_across(l.x, l.z) {
         return Err(DemError::InvalidConfig(format!(
             "junction: diameter {} does not fit the relaxed box {:.4} x {:.4}",
             cfg.diameter, l.x, l.z
@@ -103,6 +99,7 @@ pub fn build(relaxed: &Sample, cfg: &JunctionConfig) -> Result<Geometry> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scenario::junction::JunctionShape;
 
     /// A simple cubic set of points (30 x 20 x 20, spacing 1) stands in for a relaxed sample: the
     /// carving is geometry only.

@@ -267,12 +267,7 @@ impl JunctionConfig {
                     .into(),
             );
         }
-        // A ridge spans the width, so only the sliding length has to hold it; a column must clear its
-        // images along both periodic axes.
-        let across = match (self.shape, self.monolayer.is_some()) {
-            (JunctionShape::Ridge, _) | (_, true) => lx,
-            (JunctionShape::Column, false) => lx.min(lz),
-        };
+        let across = self.room_across(lx, lz);
         if d >= across {
             return bad(format!(
                 "a junction of diameter {d} does not fit the box {lx} x {lz} across the sliding plane \
@@ -304,6 +299,16 @@ impl JunctionConfig {
             ));
         }
         Ok(())
+    }
+
+    /// The periodic length a junction must stay narrower than to clear its own images, for a box of
+    /// sliding length `lx` and width `lz`: a ridge spans the width (and a monolayer's strip the layer),
+    /// so only the sliding length has to hold it; a column must fit both.
+    pub(super) fn room_across(&self, lx: f64, lz: f64) -> f64 {
+        match (self.shape, self.monolayer.is_some()) {
+            (JunctionShape::Ridge, _) | (_, true) => lx,
+            (JunctionShape::Column, false) => lx.min(lz),
+        }
     }
 
     /// Number of steps for the sliding time at time step `dt`.
