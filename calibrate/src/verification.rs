@@ -181,6 +181,18 @@ impl Verification {
         }
     }
 
+    /// The target of each check (strengths from eq 20 at the recipe's d0, gamma for the surface
+    /// energy), whether or not the calibration fitted it.
+    pub fn targets(&self) -> Properties {
+        Properties {
+            young_modulus: Some(self.young_modulus.target),
+            poisson_ratio: Some(self.poisson_ratio.target),
+            tensile_strength: Some(self.tensile_strength.target),
+            shear_strength: Some(self.shear_strength.target),
+            surface_energy: Some(self.surface_energy.target),
+        }
+    }
+
     /// Samples that failed under the card.
     pub fn failures(&self) -> usize {
         self.samples.iter().filter(|s| s.failure.is_some()).count()

@@ -175,11 +175,13 @@ pub(crate) fn draw_figure(o: &calibrate::Outcome, path: &Path) -> Result<()> {
     use validation::figures::calibration::{cost_series, draw, error_rows};
     let c = &o.card;
     let verified = c.verification.as_ref().map(Verification::means);
+    let verified_targets = c.verification.as_ref().map(Verification::targets);
     let rows = error_rows(
         &c.targets,
         &c.uncalibrated,
         &c.calibrated,
         verified.as_ref(),
+        verified_targets.as_ref(),
     );
     draw(path, &rows, &cost_series(&o.checkpoint.history))
         .context("drawing the calibration figure (the card above is complete)")?;

@@ -81,6 +81,7 @@ fn an_md_card_calibrates_the_dem_model_in_si() {
         &o.card.uncalibrated,
         &o.card.calibrated,
         Some(&verified),
+        None,
     );
     assert_eq!(rows.len(), 2);
     let png = out.join("e2e.png");

@@ -1,8 +1,11 @@
 //! The figure of a calibration (`cgdem calibrate`, `cgdem pipeline`): `calibration.png`.
 //!
 //! - left: the relative error of each target property, |measured - target| / target in percent on a
-//!   log scale, for the closed-form parameters (uncalibrated), the calibrated card and, when the card
-//!   was verified on fresh samples of its recipe, their mean;
+//!   log scale, for the first guess (the closed form unless the config sets `[start]`), the calibrated
+//!   card and, when the card was verified on fresh samples of its recipe, their mean; a property the
+//!   calibration did not fit but the verification measured against a target (the shear strength of a
+//!   card fitted to E, nu and sigma_N, the surface energy) gets its verified bar too, so that what the
+//!   fit left out is in the figure as it is in `summary.txt`;
 //! - right: the least-squares cost 1/2 |r|^2 after each solver iteration (log scale),
 //!   starting from the closed form at iteration 0.
 
@@ -24,12 +27,14 @@ pub struct ErrorRow {
     pub verified: Option<f64>,
 }
 
-/// One row per property that has a target, in the order of the calibration's table.
+/// One row per property that has a target, in the order of the calibration's table: the fitted
+/// `targets`, then (verified bar only) those of `verified_targets` that were not fitted.
 pub fn error_rows(
     targets: &Properties,
     uncalibrated: &Properties,
     calibrated: &Properties,
     verified: Option<&Properties>,
+    verified_targets: Option<&Properties>,
 ) -> Vec<ErrorRow> {
     let all = [
         Target::YoungModulus,
@@ -40,12 +45,14 @@ pub fn error_rows(
     ];
     all.into_iter()
         .filter_map(|t| {
-            let target = targets.get(t)?;
+            let fitted = targets.get(t);
+            let target = fitted.or_else(|| verified.and(verified_targets)?.get(t))?;
             let err = |p: &Properties| p.get(t).map(|v| 100.0 * (v - target) / target);
+            let fit = |p: &Properties| fitted.and_then(|_| err(p));
             Some(ErrorRow {
                 name: t.name(),
-                uncalibrated: err(uncalibrated),
-                calibrated: err(calibrated),
+                uncalibrated: fit(uncalibrated),
+                calibrated: fit(calibrated),
                 verified: verified.and_then(err),
             })
         })
@@ -89,7 +96,9 @@ pub fn draw(path: &Path, rows: &[ErrorRow], costs: &[(usize, f64)]) -> Result<()
 
     // Left: grouped bars of |error| per property.
     let kinds: [(&str, Pick); 3] = [
-        ("uncalibrated (closed form)", |r| r.uncalibrated),
+        ("first guess (closed form unless [start])", |r| {
+            r.uncalibrated
+        }),
         ("calibrated", |r| r.calibrated),
         ("verified (mean on fresh samples)", |r| r.verified),
     ];
@@ -243,12 +252,46 @@ mod tests {
             shear_strength: s,
             ..Properties::default()
         };
-        let rows = error_rows(&p(2.0, Some(0.1)), &p(2.5, Some(0.05)), &p(2.0, None), None);
+        let rows = error_rows(
+            &p(2.0, Some(0.1)),
+            &p(2.5, Some(0.05)),
+            &p(2.0, None),
+            None,
+            None,
+        );
         assert_eq!(rows.len(), 2);
         assert_eq!(rows[0].name, "young_modulus");
         assert_eq!(rows[0].uncalibrated, Some(25.0));
         assert_eq!(rows[0].calibrated, Some(0.0));
         assert_eq!(rows[1].uncalibrated, Some(-50.0));
         assert_eq!((rows[1].calibrated, rows[1].verified), (None, None));
+    }
+
+    #[test]
+    fn a_verified_property_that_was_not_fitted_gets_its_verified_bar_only() {
+        let fitted = Properties {
+            young_modulus: Some(2.0),
+            ..Properties::default()
+        };
+        let all = Properties {
+            young_modulus: Some(2.0),
+            shear_strength: Some(0.1),
+            ..Properties::default()
+        };
+        let measured = Properties {
+            young_modulus: Some(2.2),
+            shear_strength: Some(0.133),
+            ..Properties::default()
+        };
+        let rows = error_rows(&fitted, &measured, &measured, Some(&measured), Some(&all));
+        assert_eq!(rows.len(), 2);
+        assert_eq!(rows[1].name, "shear_strength");
+        assert_eq!((rows[1].uncalibrated, rows[1].calibrated), (None, None));
+        assert!((rows[1].verified.unwrap() - 33.0).abs() < 1e-9);
+        // Without a verification the unfitted property has no row.
+        assert_eq!(
+            error_rows(&fitted, &measured, &measured, None, Some(&all)).len(),
+            1
+        );
     }
 }
