@@ -88,3 +88,27 @@ fn si_material_is_converted_once_with_the_nano_unit_system() {
         _ => panic!("amorphous expected"),
     }
 }
+
+#[test]
+fn every_shipped_calibration_config_is_accepted() {
+    // The configs the docs tell users to run (configs/calibrate-*.toml) must parse, resolve their
+    // material and start, and build their problem; a config that rots is found here, not after a
+    // user's first relaxation.
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../configs");
+    let mut seen = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        if !(name.starts_with("calibrate-") && name.ends_with(".toml")) {
+            continue;
+        }
+        let c = CalibrationConfig::from_file(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+        calibrate::run::problem(&c, None).unwrap_or_else(|e| panic!("{name}: {e}"));
+        seen += 1;
+    }
+    assert!(
+        seen >= 8,
+        "found {seen} calibration configs in {}",
+        dir.display()
+    );
+}
