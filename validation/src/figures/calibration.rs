@@ -7,7 +7,7 @@
 //!   card fitted to E, nu and sigma_N, the surface energy) gets its verified bar too, so that what the
 //!   fit left out is in the figure as it is in `summary.txt`;
 //! - right: the least-squares cost 1/2 |r|^2 after each solver iteration (log scale),
-//!   starting from the closed form at iteration 0.
+//!   starting from the first guess at iteration 0.
 
 use std::path::Path;
 
@@ -59,7 +59,7 @@ pub fn error_rows(
         .collect()
 }
 
-/// (iteration, cost after it) from a calibration's history: iteration 0 is the closed form; a
+/// (iteration, cost after it) from a calibration's history: iteration 0 is the first guess; a
 /// rejected or failed step keeps the cost.
 pub fn cost_series(history: &[Record]) -> Vec<(usize, f64)> {
     let mut out = Vec::new();

@@ -23,8 +23,8 @@
 //! the paper, D = 20 nm rolls off as a wear particle at d0 = 1.5, 3 and 6 nm and D = 10 nm smooths
 //! (two seeds of three at 3 nm); the column smooths at both sizes and every d0 (18 runs; why is not
 //! measured, docs/junction.md gives a reading). So the ridge is the default; the column stays for
-//! comparison. A wear particle rolls about
-//! z in either, which is what the classifier measures (rotation in the x-y plane).
+//! comparison. A wear particle rolls about z in either, which is what the classifier measures
+//! (rotation in the x-y plane).
 //!
 //! Decision (the smallest junction): paper 000 shears D = 10 nm at d0 = 6 nm, i.e. D = 1.67 d0, so the
 //! geometry accepts D down to 1.5 d0 (`min_diameter_over_d0`); below that the junction is a particle or
