@@ -3,37 +3,15 @@
 //! the refusal of a law the scenario is not defined for.
 
 use dem::material::PairModel;
-use dem::sample::{make_sample, RelaxConfig, Sample};
-use dem::scenario::sliding::{run, SlidingConfig, SlidingMaterial, SlidingResult};
+use dem::sample::Sample;
+use dem::scenario::sliding::{run, SlidingConfig, SlidingResult};
 use dem::Parallelism;
 
-/// L = 10 d0 (d0 = 0.1 L), d* = 0.3 L, p_N = 0.02 E, 2 L of sliding in 4 windows of 5 samples.
+mod common;
+
+/// The common small box with 2.0 L of sliding.
 fn small() -> (Sample, PairModel, SlidingConfig) {
-    let cfg = SlidingConfig {
-        d0_over_l: 0.1,
-        material: SlidingMaterial {
-            strength: 0.1,
-            surface_energy: None,
-            d_star: Some(0.3),
-        },
-        pressure: 0.02,
-        distance_over_l: 2.0,
-        bins: 40,
-        windows: 4,
-        samples_per_window: 5,
-        force_samples: 100,
-        dump_frames: 0,
-        ..SlidingConfig::default()
-    };
-    let model = cfg.model().unwrap();
-    let sample = make_sample(
-        &cfg.recipe().unwrap(),
-        &model,
-        &RelaxConfig::default(),
-        Parallelism::Sequential,
-    )
-    .unwrap();
-    (sample, model, cfg)
+    common::small_sliding(2.0)
 }
 
 /// The paper's tau_m = 0.22 sigma_m stands in for the measured one: these tests are about the run

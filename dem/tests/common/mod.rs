@@ -152,3 +152,40 @@ pub fn assert_resumes_bit_identically<R>(
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The small sliding box of the sliding tests: L = 10 d0 (d0 = 0.1 L), d* = 0.3 L, p_N = 0.02 E,
+/// `distance_over_l` L of sliding in 4 windows of 5 samples, relaxed on one thread.
+pub fn small_sliding(
+    distance_over_l: f64,
+) -> (
+    dem::sample::Sample,
+    PairModel,
+    dem::scenario::sliding::SlidingConfig,
+) {
+    use dem::scenario::sliding::{SlidingConfig, SlidingMaterial};
+    let cfg = SlidingConfig {
+        d0_over_l: 0.1,
+        material: SlidingMaterial {
+            strength: 0.1,
+            surface_energy: None,
+            d_star: Some(0.3),
+        },
+        pressure: 0.02,
+        distance_over_l,
+        bins: 40,
+        windows: 4,
+        samples_per_window: 5,
+        force_samples: 100,
+        dump_frames: 0,
+        ..SlidingConfig::default()
+    };
+    let model = cfg.model().unwrap();
+    let sample = dem::sample::make_sample(
+        &cfg.recipe().unwrap(),
+        &model,
+        &dem::sample::RelaxConfig::default(),
+        Parallelism::Sequential,
+    )
+    .unwrap();
+    (sample, model, cfg)
+}
