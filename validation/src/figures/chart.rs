@@ -134,11 +134,28 @@ pub(crate) fn range(v: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
     (lo - pad)..(hi + pad)
 }
 
+/// One panel: its title, axis descriptions, x scale and series.
 pub(crate) fn panel<DB: DrawingBackend>(
+    path: &Path,
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    descs: (&str, &str, &str),
+    x_scale: Scale,
+    series: &[Series],
+) -> Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    row_panel(path, area, descs, x_scale, &[], series)
+}
+
+/// [`panel`] whose y values 0, 1, ... are the rows named by `y_rows` (outcomes per run), written on
+/// the y axis in place of numbers; with no names it is [`panel`].
+pub(crate) fn row_panel<DB: DrawingBackend>(
     path: &Path,
     area: &DrawingArea<DB, plotters::coord::Shift>,
     (title, x_desc, y_desc): (&str, &str, &str),
     x_scale: Scale,
+    y_rows: &[String],
     series: &[Series],
 ) -> Result<()>
 where
@@ -164,10 +181,10 @@ where
     match x_scale {
         Scale::Linear => {
             let xr = range(all().map(|p| p.0));
-            let chart = builder(area, title)
+            let chart = rows_builder(area, title, y_rows)
                 .build_cartesian_2d(xr, yr)
                 .map_err(|e| draw_err(path, e))?;
-            fill(path, area, chart, (x_desc, y_desc), None, series)
+            fill(path, area, chart, (x_desc, y_desc), None, y_rows, series)
         }
         Scale::Log => {
             // The series are in log10 x already (`Scale::map`); a third of a decade of margin.
@@ -184,7 +201,7 @@ where
             } else {
                 (-1.0, 1.0)
             };
-            let chart = builder(area, title)
+            let chart = rows_builder(area, title, y_rows)
                 .build_cartesian_2d(lo..hi, yr)
                 .map_err(|e| draw_err(path, e))?;
             let desc = format!("{x_desc} (log scale)");
@@ -194,6 +211,7 @@ where
                 chart,
                 (&desc, y_desc),
                 Some(log_ticks(lo, hi)),
+                y_rows,
                 series,
             )
         }
@@ -219,12 +237,29 @@ pub(crate) fn log_axis<'a, DB: DrawingBackend + 'a>(
 where
     DB::ErrorType: 'static,
 {
+    let labelled: Vec<(f64, String)> = ticks.iter().map(|t| (*t, log_label(t))).collect();
+    labelled_axis(path, area, chart, axis, &labelled)
+}
+
+/// Grid lines and text labels at chosen positions of an axis, drawn by hand (a log10 axis, or the
+/// named rows of an outcome chart); the mesh of that axis is configured without labels.
+pub(crate) fn labelled_axis<'a, DB: DrawingBackend + 'a>(
+    path: &Path,
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    axis: Axis,
+    ticks: &[(f64, String)],
+) -> Result<()>
+where
+    DB::ErrorType: 'static,
+{
     let err = |e: &dyn std::fmt::Display| draw_err(path, e);
     let (x0, x1) = (chart.x_range().start, chart.x_range().end);
     let (y0, y1) = (chart.y_range().start, chart.y_range().end);
     let grid = RGBColor(200, 200, 200);
     let (bx, by) = area.get_base_pixel();
-    for &t in ticks {
+    for (t, label) in ticks {
+        let t = *t;
         let (line, anchor, label_at) = match axis {
             Axis::X => (
                 [(t, y0), (t, y1)],
@@ -245,7 +280,7 @@ where
         let (dx, dy) = if axis == Axis::X { (0, 6) } else { (-6, 0) };
         let style = TextStyle::from((FAMILY, 15)).pos(anchor);
         area.draw(&Text::new(
-            log_label(&t),
+            label.as_str(),
             (px - bx + dx, py - by + dy),
             style,
         ))
@@ -262,6 +297,7 @@ fn fill<'a, DB: DrawingBackend + 'a>(
     mut chart: ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
     (x_desc, y_desc): (&str, &str),
     log_x: Option<Vec<f64>>,
+    y_rows: &[String],
     series: &[Series],
 ) -> Result<()>
 where
@@ -278,9 +314,20 @@ where
         None => mesh.x_labels(8).x_label_formatter(&|v| tick(v)),
         Some(_) => mesh.x_labels(0).disable_x_mesh(),
     };
+    if !y_rows.is_empty() {
+        mesh.y_labels(0).disable_y_mesh();
+    }
     mesh.draw().map_err(|e| err(&e))?;
     if let Some(ticks) = &log_x {
         log_axis(path, area, &mut chart, Axis::X, ticks)?;
+    }
+    if !y_rows.is_empty() {
+        let rows: Vec<(f64, String)> = y_rows
+            .iter()
+            .enumerate()
+            .map(|(k, name)| (k as f64, name.clone()))
+            .collect();
+        labelled_axis(path, area, &mut chart, Axis::Y, &rows)?;
     }
     for (_, pts, mark, c) in series {
         let colour = colour(*c);
@@ -340,6 +387,21 @@ pub(crate) fn builder<'a, 'b, DB: DrawingBackend>(
         .margin(14)
         .x_label_area_size(48)
         .y_label_area_size(72);
+    b
+}
+
+/// [`builder`], with a label area wide enough for the names of `y_rows` (a row chart) when there
+/// are any: about 8 pixels per character of the 15-pixel label font.
+fn rows_builder<'a, 'b, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, plotters::coord::Shift>,
+    title: &'b str,
+    y_rows: &[String],
+) -> ChartBuilder<'a, 'b, DB> {
+    let mut b = builder(area, title);
+    let longest = y_rows.iter().map(|r| r.chars().count()).max().unwrap_or(0);
+    if longest > 0 {
+        b.y_label_area_size((16 + 8 * longest as u32).max(72));
+    }
     b
 }
 

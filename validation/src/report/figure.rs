@@ -10,7 +10,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::error::Result;
-use crate::figures::chart::{panel, swatch, Mark, Scale};
+use crate::figures::chart::{row_panel, swatch, Mark, Scale};
 use crate::figures::style::{colour, draw_err, ensure_font, FAMILY};
 use crate::ValidationError;
 
@@ -77,6 +77,9 @@ pub struct Panel {
     pub x: String,
     pub y: String,
     pub log_x: bool,
+    /// Names of the rows 0, 1, ... of a row chart (outcomes per run), written on the y axis in place
+    /// of numbers; empty for a numeric y axis.
+    pub y_rows: Vec<String>,
     pub series: Vec<Series>,
 }
 
@@ -87,6 +90,7 @@ impl Panel {
             x: x.into(),
             y: y.into(),
             log_x: false,
+            y_rows: Vec::new(),
             series: Vec::new(),
         }
     }
@@ -99,6 +103,12 @@ impl Panel {
 
     pub fn log_x(mut self) -> Self {
         self.log_x = true;
+        self
+    }
+
+    /// A row chart: the y values 0, 1, ... are the rows `names` (builder style).
+    pub fn rows(mut self, names: Vec<String>) -> Self {
+        self.y_rows = names;
         self
     }
 }
@@ -223,7 +233,14 @@ impl Figure {
                     (s.label.clone(), scale.map(&s.points), s.kind.mark(), c)
                 })
                 .collect();
-            panel(path, area, (&p.title, &p.x, &p.y), scale, &series)?;
+            row_panel(
+                path,
+                area,
+                (&p.title, &p.x, &p.y),
+                scale,
+                &p.y_rows,
+                &series,
+            )?;
         }
         root.present().map_err(|e| draw_err(path, e))
     }
@@ -367,5 +384,30 @@ mod tests {
         assert!(svg.starts_with("<svg"));
         assert!(svg.contains("mirrors paper 000 Fig. 2"));
         assert!(svg.contains("stroke-dasharray") || svg.matches("<polyline").count() >= 2);
+    }
+
+    #[test]
+    fn a_row_chart_names_its_rows_instead_of_numbering_them() {
+        let rows = |names: Vec<String>| {
+            Figure::new("r", "issue 17", "test")
+                .panel(
+                    Panel::new("outcomes", "D (nm)", "run")
+                        .with(
+                            "wear",
+                            Kind::SimulationMarks,
+                            vec![(10.0, 0.0), (20.0, 1.0)],
+                        )
+                        .rows(names),
+                )
+                .svg()
+                .unwrap()
+        };
+        let named = rows(vec!["MD seed 7".into(), "DEM d0 0.5 seed 3".into()]);
+        assert!(named.contains("MD seed 7") && named.contains("DEM d0 0.5 seed 3"));
+        // The numeric ticks of the y axis give way to the names: 0.5 labels a numbered axis only.
+        let numbered = rows(vec![]);
+        let half = ">\n0.5\n<";
+        assert!(numbered.contains(half) && !named.contains(half));
+        assert!(!numbered.contains("MD seed 7"));
     }
 }

@@ -272,10 +272,11 @@ fn figure(r: &CompareResult) -> Figure {
     };
     let md_rows = r.md.seeds.len() as f64;
     let mut p = Panel::new(
-        "outcome against D / d* of eq 22 (rows: MD seeds, then each DEM d0 and seed)",
+        "outcome of each run against D / d* of eq 22",
         "junction width D / d* of eq 22 (-)",
-        "row",
+        "run",
     )
+    .rows(rows.iter().map(|(name, _)| name.clone()).collect())
     .with(
         "plastic smoothing",
         Kind::SimulationMarks,

@@ -398,10 +398,11 @@ fn outcome_map(runs: &[JunctionSummary], s: &DstarResult) -> Figure {
     };
     let vline = |x: f64| vec![(x, -0.5), (x, rows - 0.5)];
     let mut search_panel = Panel::new(
-        &format!("d* search at d0 = {} nm (rows: seeds)", s.d0),
+        &format!("d* search at d0 = {} nm", s.d0),
         "junction diameter D (nm)",
-        "seed (row)",
+        "run",
     )
+    .rows(s.seeds.iter().map(|k| format!("seed {k}")).collect())
     .with(
         "plastic smoothing",
         Kind::SimulationMarks,
