@@ -145,17 +145,17 @@ pub(crate) fn panel<DB: DrawingBackend>(
 where
     DB::ErrorType: 'static,
 {
-    row_panel(path, area, descs, x_scale, &[], series)
+    row_panel(path, area, descs, x_scale, (&[], &[]), series)
 }
 
-/// [`panel`] whose y values 0, 1, ... are the rows named by `y_rows` (outcomes per run), written on
-/// the y axis in place of numbers; with no names it is [`panel`].
+/// [`panel`] with chosen ticks: x ticks at `x_ticks` only (a count such as threads), and y values
+/// 0, 1, ... named by `y_rows` (outcomes per run) in place of numbers; with neither it is [`panel`].
 pub(crate) fn row_panel<DB: DrawingBackend>(
     path: &Path,
     area: &DrawingArea<DB, plotters::coord::Shift>,
     (title, x_desc, y_desc): (&str, &str, &str),
     x_scale: Scale,
-    y_rows: &[String],
+    (x_ticks, y_rows): (&[f64], &[String]),
     series: &[Series],
 ) -> Result<()>
 where
@@ -184,7 +184,8 @@ where
             let chart = rows_builder(area, title, y_rows)
                 .build_cartesian_2d(xr, yr)
                 .map_err(|e| draw_err(path, e))?;
-            fill(path, area, chart, (x_desc, y_desc), None, y_rows, series)
+            let ticks = (!x_ticks.is_empty()).then(|| Ticks::Chosen(x_ticks.to_vec()));
+            fill(path, area, chart, (x_desc, y_desc), ticks, y_rows, series)
         }
         Scale::Log => {
             // The series are in log10 x already (`Scale::map`); a third of a decade of margin.
@@ -210,7 +211,7 @@ where
                 area,
                 chart,
                 (&desc, y_desc),
-                Some(log_ticks(lo, hi)),
+                Some(Ticks::Log(log_ticks(lo, hi))),
                 y_rows,
                 series,
             )
@@ -289,14 +290,21 @@ where
     Ok(())
 }
 
-/// Mesh and series of one panel; `log_x` holds the ticks of a log10 x axis (drawn here: grid
-/// lines and 10^v labels at 1, 2, 5 x 10^k), `None` for a linear one.
+/// Hand-drawn ticks of an x axis: a log10 axis's (log10 values), or chosen linear ones.
+enum Ticks {
+    Log(Vec<f64>),
+    Chosen(Vec<f64>),
+}
+
+/// Mesh and series of one panel; `x_ticks` holds the hand-drawn ticks of the x axis (a log10
+/// axis's grid lines and 10^v labels at 1, 2, 5 x 10^k, or chosen linear ones), `None` for
+/// plotters' own; `y_rows` names the rows of a row chart.
 fn fill<'a, DB: DrawingBackend + 'a>(
     path: &Path,
     area: &DrawingArea<DB, plotters::coord::Shift>,
     mut chart: ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
     (x_desc, y_desc): (&str, &str),
-    log_x: Option<Vec<f64>>,
+    x_ticks: Option<Ticks>,
     y_rows: &[String],
     series: &[Series],
 ) -> Result<()>
@@ -310,7 +318,7 @@ where
         .y_label_formatter(&|v| tick(v))
         .label_style((FAMILY, 15))
         .axis_desc_style((FAMILY, 17));
-    match &log_x {
+    match &x_ticks {
         None => mesh.x_labels(8).x_label_formatter(&|v| tick(v)),
         Some(_) => mesh.x_labels(0).disable_x_mesh(),
     };
@@ -318,8 +326,13 @@ where
         mesh.y_labels(0).disable_y_mesh();
     }
     mesh.draw().map_err(|e| err(&e))?;
-    if let Some(ticks) = &log_x {
-        log_axis(path, area, &mut chart, Axis::X, ticks)?;
+    match &x_ticks {
+        Some(Ticks::Log(at)) => log_axis(path, area, &mut chart, Axis::X, at)?,
+        Some(Ticks::Chosen(at)) => {
+            let labelled: Vec<(f64, String)> = at.iter().map(|v| (*v, tick(v))).collect();
+            labelled_axis(path, area, &mut chart, Axis::X, &labelled)?
+        }
+        None => {}
     }
     if !y_rows.is_empty() {
         let rows: Vec<(f64, String)> = y_rows

@@ -80,6 +80,9 @@ pub struct Panel {
     /// Names of the rows 0, 1, ... of a row chart (outcomes per run), written on the y axis in place
     /// of numbers; empty for a numeric y axis.
     pub y_rows: Vec<String>,
+    /// Where the x axis has its ticks when they are chosen (a count such as threads, which has no
+    /// 1.2); empty for the automatic ticks.
+    pub x_ticks: Vec<f64>,
     pub series: Vec<Series>,
 }
 
@@ -91,6 +94,7 @@ impl Panel {
             y: y.into(),
             log_x: false,
             y_rows: Vec::new(),
+            x_ticks: Vec::new(),
             series: Vec::new(),
         }
     }
@@ -103,6 +107,12 @@ impl Panel {
 
     pub fn log_x(mut self) -> Self {
         self.log_x = true;
+        self
+    }
+
+    /// Ticks of the x axis at `at` only (builder style; a linear x axis).
+    pub fn x_ticks(mut self, at: Vec<f64>) -> Self {
+        self.x_ticks = at;
         self
     }
 
@@ -238,7 +248,7 @@ impl Figure {
                 area,
                 (&p.title, &p.x, &p.y),
                 scale,
-                &p.y_rows,
+                (&p.x_ticks, &p.y_rows),
                 &series,
             )?;
         }
@@ -409,5 +419,27 @@ mod tests {
         let half = ">\n0.5\n<";
         assert!(numbered.contains(half) && !named.contains(half));
         assert!(!numbered.contains("MD seed 7"));
+    }
+
+    #[test]
+    fn chosen_x_ticks_replace_the_automatic_ones() {
+        let threads = |at: Vec<f64>| {
+            Figure::new("p", "DESIGN.md 8", "test")
+                .panel(
+                    Panel::new("rate", "threads (-)", "rate")
+                        .with(
+                            "cgdem",
+                            Kind::SimulationPoints,
+                            vec![(1.0, 5.0), (2.0, 9.0)],
+                        )
+                        .x_ticks(at),
+                )
+                .svg()
+                .unwrap()
+        };
+        let (chosen, automatic) = (threads(vec![1.0, 2.0]), threads(vec![]));
+        let label = |v: &str| format!(">\n{v}\n<");
+        assert!(automatic.contains(&label("1.2")) && !chosen.contains(&label("1.2")));
+        assert!(chosen.contains(&label("1")) && chosen.contains(&label("2")));
     }
 }

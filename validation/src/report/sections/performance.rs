@@ -100,6 +100,7 @@ fn run(ctx: &Context) -> Result<SectionOutput> {
     let floor = "1.6 x LAMMPS per core (the floor)";
     let xs = |v: f64| vec![(0.8, v), (2.2, v)];
     let panel = Panel::new(title, "cgdem threads (-)", "million particle-steps / s")
+        .x_ticks(t.cgdem.iter().map(|&(n, _)| n as f64).collect())
         .with(
             &engine,
             Kind::SimulationPoints,
