@@ -1,6 +1,8 @@
 //! Scenarios: complete numerical experiments built on the engine. Each is a function with a typed serde
 //! configuration (defaults are the papers' values) and a typed result, deterministic for a given sample
 //! and model, returning errors rather than panicking.
+//! - [`pair`]: two-particle experiments against paper 000's closed forms (period, stability limit,
+//!   restitution, bond work), shared by the engine's tests and the validation report;
 //! - [`rig`]: the shared ground: a sample between two rigid walls along a chosen axis;
 //! - [`driven`]: the top wall dragged under pressure, and the resumable observed run the junction and
 //!   the sliding layer share;
@@ -16,6 +18,7 @@
 pub mod driven;
 pub mod junction;
 pub mod monolayer;
+pub mod pair;
 pub mod patch;
 pub mod plastic;
 pub mod rig;

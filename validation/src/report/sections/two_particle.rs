@@ -7,10 +7,8 @@
 use std::path::Path;
 
 use dem::force::normal_force;
-use dem::{
-    DampingModel, Group, Interactions, Material, PairModel, Parallelism, Particles, RigidMotion,
-    RunConfig, SimBox, Simulation, TimeStep, Vec3,
-};
+use dem::scenario::pair;
+use dem::{DampingModel, Material, PairModel, Parallelism};
 use serde::{Deserialize, Serialize};
 
 use crate::report::claim::sig;
@@ -61,178 +59,52 @@ fn undamped() -> Material {
     }
 }
 
-fn open_box() -> Result<SimBox> {
-    Ok(SimBox::new(
-        Vec3::repeat(-1e6),
-        Vec3::repeat(1e6),
-        [false; 3],
-    )?)
-}
-
-fn pair_of(r: f64, gap: f64) -> Particles {
-    let mut p = Particles::default();
-    p.push_sphere(Vec3::new(-(r + 0.5 * gap), 0.0, 0.0), r, 1.0);
-    p.push_sphere(Vec3::new(r + 0.5 * gap, 0.0, 0.0), r, 1.0);
-    p
-}
-
-fn config(frac: f64) -> RunConfig {
-    RunConfig {
-        time_step: TimeStep::FractionOfCritical(frac),
-        allow_supercritical_dt: frac > 1.0,
-        track_energy: true,
-        ..Default::default()
-    }
-}
-
-fn sim(p: Particles, model: PairModel, cfg: RunConfig, groups: Vec<Group>) -> Result<Simulation> {
-    let groups = if groups.is_empty() {
-        vec![Group::free("all")]
-    } else {
-        groups
-    };
-    Ok(Simulation::new(
-        p,
-        open_box()?,
-        model,
-        groups,
-        cfg,
-        Parallelism::Sequential,
-    )?)
-}
-
-fn gap(s: &Simulation) -> f64 {
-    let p = &s.particles;
-    (p.pos[1] - p.pos[0]).norm() - p.radius[0] - p.radius[1]
-}
-
+/// Each case runs the engine's own two-particle rig (`dem::scenario::pair`), the one its tests use.
 fn measure(case: &Case, _dir: &Path, _par: Parallelism) -> Result<Measured> {
-    match *case {
-        Case::Period { .. } => period(),
-        Case::Stability { fraction, .. } => stability(fraction),
-        Case::Restitution { eta, exact, .. } => restitution(eta, exact),
+    let undamped_model = || PairModel::cohesive(undamped());
+    Ok(match *case {
+        Case::Period { .. } => {
+            let o = pair::oscillation(undamped_model(), R)?;
+            Measured {
+                value: o.period_over_analytic,
+                curve: o.trace,
+            }
+        }
+        Case::Stability { fraction, .. } => Measured {
+            value: pair::largest_excursion(undamped_model(), R, fraction, 20_000)?,
+            curve: vec![],
+        },
+        Case::Restitution { eta, exact, .. } => {
+            let mut model = PairModel::cohesive(Material {
+                restitution: eta,
+                ..Material::table4(0.15)
+            });
+            model.damping = if exact {
+                DampingModel::Exact
+            } else {
+                DampingModel::Linearised
+            };
+            Measured {
+                value: pair::restitution(model, R)?,
+                curve: vec![],
+            }
+        }
         Case::Bond {
             ri, rj, scaling, ..
-        } => bond(ri, rj, scaling),
-    }
-}
-
-/// Period from five upward zero crossings; curve: delta_N / x0 against t / T_analytic.
-fn period() -> Result<Measured> {
-    let model = PairModel::cohesive(undamped());
-    let pp = model.params(R, R, 1.0, 1.0);
-    let x0 = 0.05 * pp.delta_e;
-    let mut s = sim(pair_of(R, x0), model, config(0.01), vec![])?;
-    let (m, k) = (s.particles.mass[0], s.model().params(R, R, 1.0, 1.0).k_n);
-    let t_an = 2.0 * std::f64::consts::PI * (0.5 * m / k).sqrt();
-    let dt = s.dt();
-    let mut crossings = Vec::new();
-    let mut prev = gap(&s);
-    let mut curve = vec![(0.0, 1.0)];
-    while crossings.len() < 6 {
-        s.step()?;
-        let g = gap(&s);
-        if s.time() <= 2.0 * t_an {
-            curve.push((s.time() / t_an, g / x0));
+        } => {
+            let b = pair::pull_apart(
+                PairModel::cohesive(Material {
+                    scaling,
+                    ..undamped()
+                }),
+                ri,
+                rj,
+            )?;
+            Measured {
+                value: b.wall_work,
+                curve: b.curve,
+            }
         }
-        if prev < 0.0 && g >= 0.0 {
-            crossings.push(s.time() - dt * g / (g - prev));
-        }
-        prev = g;
-    }
-    Ok(Measured {
-        value: (crossings[5] - crossings[0]) / 5.0 / t_an,
-        curve,
-    })
-}
-
-/// Largest |delta_N| over 20 000 steps (or until it passes 1000 x0) over x0.
-fn stability(fraction: f64) -> Result<Measured> {
-    let model = PairModel::cohesive(undamped());
-    let x0 = 0.02 * model.params(R, R, 1.0, 1.0).delta_e;
-    let mut s = sim(pair_of(R, x0), model, config(fraction), vec![])?;
-    let mut max: f64 = x0;
-    for _ in 0..20_000 {
-        if s.step().is_err() {
-            max = f64::INFINITY;
-            break;
-        }
-        max = max.max(gap(&s).abs());
-        if max > 1e3 * x0 {
-            break;
-        }
-    }
-    Ok(Measured {
-        value: max / x0,
-        curve: vec![],
-    })
-}
-
-fn restitution(eta: f64, exact: bool) -> Result<Measured> {
-    let mut model = PairModel::cohesive(Material {
-        restitution: eta,
-        ..Material::table4(0.15)
-    });
-    model.interactions = Interactions::REPULSIVE;
-    model.damping = if exact {
-        DampingModel::Exact
-    } else {
-        DampingModel::Linearised
-    };
-    let mut p = pair_of(R, 1.0);
-    let v0 = 0.01;
-    p.vel[0].x = 0.5 * v0;
-    p.vel[1].x = -0.5 * v0;
-    let mut s = sim(p, model, config(0.002), vec![])?;
-    let mut touched = false;
-    for _ in 0..10_000_000 {
-        s.step()?;
-        let g = gap(&s);
-        touched |= g < 0.0;
-        if touched && g > 1.0 {
-            break;
-        }
-    }
-    Ok(Measured {
-        value: (s.particles.vel[1].x - s.particles.vel[0].x) / v0,
-        curve: vec![],
-    })
-}
-
-/// Pulls sphere j away from a frozen sphere i at delta_f / 40 000 steps: the wall work, and the pair
-/// force against the gap (F_N / (k_N delta_e) against delta_N / delta_e, every 200 steps).
-fn bond(ri: f64, rj: f64, scaling: f64) -> Result<Measured> {
-    let model = PairModel::cohesive(Material {
-        scaling,
-        ..undamped()
-    });
-    let mut p = Particles::default();
-    p.push_sphere(Vec3::zeros(), ri, 1.0);
-    p.push_sphere(Vec3::new(ri + rj, 0.0, 0.0), rj, 1.0);
-    p.group = vec![1, 2];
-    let pp = model.params(ri, rj, p.mass[0], p.mass[1]);
-    let dt = 0.1 * model.critical_time_step(ri.min(rj), p.mass[0].min(p.mass[1]));
-    let v = pp.delta_f / (4e4 * dt);
-    let groups = vec![
-        Group::free("all"),
-        Group::rigid("anchor", RigidMotion::frozen()),
-        Group::rigid("puller", RigidMotion::with_velocity(Vec3::new(v, 0.0, 0.0))),
-    ];
-    let mut s = sim(p, model, config(0.1), groups)?;
-    let mut curve = Vec::new();
-    let mut k = 0u64;
-    while gap(&s) < 1.05 * pp.delta_f {
-        let g = gap(&s);
-        s.step()?;
-        if k.is_multiple_of(200) {
-            // The force on j at the start of the step (the gap g): cohesion pulls j towards i (-x).
-            curve.push((g / pp.delta_e, -s.forces()[1].x / (pp.k_n * pp.delta_e)));
-        }
-        k += 1;
-    }
-    Ok(Measured {
-        value: s.energy().wall_work,
-        curve,
     })
 }
 
