@@ -19,16 +19,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (steps, threads) = (arg(2, 500), arg(3, 1) as usize);
     let sample = Sample::load(std::path::Path::new(path))?;
     // Paper 000 Table 5 in nm, ag, ns (UnitSystem::NANO).
-    let silica = Material {
-        young_modulus: 73e3,
-        poisson_ratio: 0.17,
-        tensile_strength: 16e3,
-        shear_strength: 9e3,
-        surface_energy: 1500.0,
-        restitution: 0.9,
-        density: 2.2e-3,
-        scaling: 0.5,
-    };
+    let silica = Material::from_si(&dem::SiMaterial::table5(), dem::UnitSystem::NANO);
     let mut p = sample.particles;
     let mut rng = ChaCha8Rng::seed_from_u64(2024);
     for v in p.vel.iter_mut() {

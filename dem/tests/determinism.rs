@@ -154,16 +154,7 @@ fn storage_order_changes_no_force_and_threads_agree() {
 /// forming and breaking bonds) in a periodic cube of `l_over_d0` d0.
 fn silica_scene(l_over_d0: f64, par: Parallelism) -> Simulation {
     use dem::sample::{random_insertion, InsertionConfig, SizeDistribution};
-    let silica = dem::Material {
-        young_modulus: 73e3,
-        poisson_ratio: 0.17,
-        tensile_strength: 16e3,
-        shear_strength: 9e3,
-        surface_energy: 1500.0,
-        restitution: 0.9,
-        density: 2.2e-3,
-        scaling: 0.5,
-    };
+    let silica = dem::Material::from_si(&dem::SiMaterial::table5(), dem::UnitSystem::NANO);
     let d0 = 0.877 * silica.critical_diameter();
     let sample = random_insertion(&InsertionConfig {
         lengths: Vec3::repeat(l_over_d0 * d0),

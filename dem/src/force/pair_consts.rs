@@ -280,16 +280,10 @@ mod tests {
     fn derived_constants_carry_the_bits_of_the_pair_parameters() {
         // Every model variant the kernel meets: silica's s = 1/2 with pairs on both sides of d_c,
         // calibration multipliers, the relaxation's switches and the exact damping model.
-        let silica = Material {
-            young_modulus: 73e3,
-            poisson_ratio: 0.17,
-            tensile_strength: 16e3,
-            shear_strength: 9e3,
-            surface_energy: 1500.0,
-            restitution: 0.9,
-            density: 2.2e-3,
-            scaling: 0.5,
-        };
+        let silica = Material::from_si(
+            &crate::material::SiMaterial::table5(),
+            crate::UnitSystem::NANO,
+        );
         let mut models = vec![
             PairModel::cohesive(Material::table4(0.15)),
             PairModel::cohesive(silica.clone()),
