@@ -20,13 +20,9 @@ pub fn open_box(half: f64) -> SimBox {
     SimBox::new(Vec3::repeat(-half), Vec3::repeat(half), [false; 3]).unwrap()
 }
 
-/// Two spheres of radius `r` on the x axis, centres 2r + gap apart.
-pub fn pair_of(r: f64, gap: f64) -> Particles {
-    let mut p = Particles::default();
-    p.push_sphere(Vec3::new(-(r + 0.5 * gap), 0.0, 0.0), r, 1.0);
-    p.push_sphere(Vec3::new(r + 0.5 * gap, 0.0, 0.0), r, 1.0);
-    p
-}
+/// Two spheres of radius `r` on the x axis, centres 2r + gap apart: the engine's two-particle rig.
+#[allow(unused_imports)] // Not every test binary that includes this module builds pairs.
+pub use dem::scenario::pair::pair_of;
 
 /// Run settings at a fraction of dt_c.
 pub fn config(frac: f64) -> RunConfig {
