@@ -1,0 +1,56 @@
+//! Probe of 4 Dec (docs/patch-tests.md, "HCP lattice"): the HCP shear peak at nu = 0 with the
+//! close-packed rows along the shear or turned by 90 degrees, and with the top wall under a small
+//! pressure instead of at fixed height. Not built by the workspace; to run it:
+//!   cp docs/probes/hcp_shear_probe.rs dem/examples/ && cargo build --release -p dem --example hcp_shear_probe
+//!   target/release/examples/hcp_shear_probe D0_OVER_DC TURN PRESSURE
+//! (TURN 0 or 1; PRESSURE in E, 0 for the fixed-height test only), e.g. `0.6 0 0`, `2.4 1 0`,
+//! `0.6 0 1e-4`. Prints the peaks over the target shear strength (eq 20 at s = 0).
+use dem::material::{Material, PairModel};
+use dem::sample::Sample;
+use dem::scenario::patch::compaction::{compaction, CompactionConfig};
+use dem::scenario::patch::strength::{strength, StrengthConfig, StrengthMode};
+use dem::{Parallelism, SimBox, Vec3};
+
+fn main() {
+    let a: Vec<f64> = std::env::args().skip(1).map(|v| v.parse().unwrap()).collect();
+    let (d0_over_dc, turn, pressure) = (a[0], a[1] != 0.0, a[2]);
+    let m = Material::table4(0.0);
+    let model = PairModel::cohesive(m.clone());
+    let d = d0_over_dc * m.critical_diameter();
+    let mut s = Sample::hcp(Vec3::new(8.0 * d, 8.0 * d, 3.0 * d), d, 1.0).unwrap();
+    if turn {
+        for p in s.particles.pos.iter_mut() {
+            *p = Vec3::new(p.y, p.x, p.z);
+        }
+        let (lo, hi) = (s.sim_box.lo, s.sim_box.hi);
+        s.sim_box = SimBox::new(
+            Vec3::new(lo.y, lo.x, lo.z),
+            Vec3::new(hi.y, hi.x, hi.z),
+            [true; 3],
+        )
+        .unwrap();
+    }
+    let mut cfg = StrengthConfig::paper(StrengthMode::Shear);
+    cfg.post_peak_strain = 0.02;
+    let fixed = strength(&s, &model, &cfg, Parallelism::Threads(1)).unwrap();
+    println!(
+        "d0/dc {d0_over_dc} turned {turn}: fixed height peak / target {:.4}",
+        fixed.strength / m.shear_strength
+    );
+    if pressure > 0.0 {
+        let c = CompactionConfig {
+            pressure,
+            strain: 0.3,
+            max_compaction: 1.0,
+            ..CompactionConfig::default()
+        };
+        let r = compaction(&s, &model, &c, Parallelism::Threads(1)).unwrap();
+        let peak = r.curve.points.iter().map(|q| q.stress[3].abs()).fold(0.0, f64::max);
+        let wall = r.curve.points.iter().map(|q| q.wall_traction_x.abs()).fold(0.0, f64::max);
+        println!(
+            "  under {pressure} E: peak sigma_xy / target {:.4} (wall traction {:.4})",
+            peak / m.shear_strength,
+            wall / m.shear_strength
+        );
+    }
+}
