@@ -1,10 +1,13 @@
-//! Probe of 4 Dec (docs/patch-tests.md, "HCP lattice"): the HCP shear peak at nu = 0 with the
-//! close-packed rows along the shear or turned by 90 degrees, and with the top wall under a small
-//! pressure instead of at fixed height. Not built by the workspace; to run it:
+//! Probe of 4 Dec (docs/patch-tests.md, "HCP lattice"): the HCP shear and tensile peaks at nu = 0
+//! with the lattice in four orientations, and the shear peak with the top wall under a small
+//! pressure instead of at fixed height. TURN 0: close-packed layers in the x-y plane (stacked along
+//! z, normal to the walls' plane), rows along the shear (x), as shipped; 1: the same layers turned by
+//! 90 degrees in their plane (rows along y); 2: layers in the x-z plane (stacked along y, parallel to
+//! the walls: the shear slides them over each other), rows along x; 3: as 2 with rows along z. Not built by the workspace; to run it:
 //!   cp docs/probes/hcp_shear_probe.rs dem/examples/ && cargo build --release -p dem --example hcp_shear_probe
 //!   target/release/examples/hcp_shear_probe D0_OVER_DC TURN PRESSURE
-//! (TURN 0 or 1; PRESSURE in E, 0 for the fixed-height test only), e.g. `0.6 0 0`, `2.4 1 0`,
-//! `0.6 0 1e-4`. Prints the peaks over the target shear strength (eq 20 at s = 0).
+//! (TURN 0-3; PRESSURE in E, 0 for the fixed-height test only), e.g. `0.6 0 0`, `2.4 1 0`,
+//! `0.6 0 1e-4`. Prints the peaks over the target strengths (eq 20 at s = 0).
 use dem::material::{Material, PairModel};
 use dem::sample::Sample;
 use dem::scenario::patch::compaction::{compaction, CompactionConfig};
@@ -12,13 +15,47 @@ use dem::scenario::patch::strength::{strength, StrengthConfig, StrengthMode};
 use dem::{Parallelism, SimBox, Vec3};
 
 fn main() {
-    let a: Vec<f64> = std::env::args().skip(1).map(|v| v.parse().unwrap()).collect();
-    let (d0_over_dc, turn, pressure) = (a[0], a[1] != 0.0, a[2]);
+    let a: Vec<f64> = std::env::args()
+        .skip(1)
+        .map(|v| v.parse().unwrap())
+        .collect();
+    let (d0_over_dc, turn, pressure) = (a[0], a[1] as u32, a[2]);
     let m = Material::table4(0.0);
     let model = PairModel::cohesive(m.clone());
     let d = d0_over_dc * m.critical_diameter();
-    let mut s = Sample::hcp(Vec3::new(8.0 * d, 8.0 * d, 3.0 * d), d, 1.0).unwrap();
-    if turn {
+    let dims = if turn == 3 {
+        Vec3::new(3.0 * d, 8.0 * d, 8.0 * d)
+    } else if turn == 2 {
+        Vec3::new(8.0 * d, 3.0 * d, 8.0 * d)
+    } else {
+        Vec3::new(8.0 * d, 8.0 * d, 3.0 * d)
+    };
+    let mut s = Sample::hcp(dims, d, 1.0).unwrap();
+    if turn == 3 {
+        for p in s.particles.pos.iter_mut() {
+            *p = Vec3::new(p.y, p.x, p.z);
+        }
+        let (lo, hi) = (s.sim_box.lo, s.sim_box.hi);
+        s.sim_box = SimBox::new(
+            Vec3::new(lo.y, lo.x, lo.z),
+            Vec3::new(hi.y, hi.x, hi.z),
+            [true; 3],
+        )
+        .unwrap();
+    }
+    if turn >= 2 {
+        for p in s.particles.pos.iter_mut() {
+            *p = Vec3::new(p.x, p.z, p.y);
+        }
+        let (lo, hi) = (s.sim_box.lo, s.sim_box.hi);
+        s.sim_box = SimBox::new(
+            Vec3::new(lo.x, lo.z, lo.y),
+            Vec3::new(hi.x, hi.z, hi.y),
+            [true; 3],
+        )
+        .unwrap();
+    }
+    if turn == 1 {
         for p in s.particles.pos.iter_mut() {
             *p = Vec3::new(p.y, p.x, p.z);
         }
@@ -37,6 +74,13 @@ fn main() {
         "d0/dc {d0_over_dc} turned {turn}: fixed height peak / target {:.4}",
         fixed.strength / m.shear_strength
     );
+    let mut tc = StrengthConfig::paper(StrengthMode::Tensile);
+    tc.post_peak_strain = 0.02;
+    let t = strength(&s, &model, &tc, Parallelism::Threads(1)).unwrap();
+    println!(
+        "  tensile peak / target {:.4}",
+        t.strength / m.tensile_strength
+    );
     if pressure > 0.0 {
         let c = CompactionConfig {
             pressure,
@@ -45,8 +89,18 @@ fn main() {
             ..CompactionConfig::default()
         };
         let r = compaction(&s, &model, &c, Parallelism::Threads(1)).unwrap();
-        let peak = r.curve.points.iter().map(|q| q.stress[3].abs()).fold(0.0, f64::max);
-        let wall = r.curve.points.iter().map(|q| q.wall_traction_x.abs()).fold(0.0, f64::max);
+        let peak = r
+            .curve
+            .points
+            .iter()
+            .map(|q| q.stress[3].abs())
+            .fold(0.0, f64::max);
+        let wall = r
+            .curve
+            .points
+            .iter()
+            .map(|q| q.wall_traction_x.abs())
+            .fold(0.0, f64::max);
         println!(
             "  under {pressure} E: peak sigma_xy / target {:.4} (wall traction {:.4})",
             peak / m.shear_strength,
