@@ -282,7 +282,7 @@ fn run_hcp(ctx: &Context) -> Result<SectionOutput> {
     })
 }
 
-const SHEAR_NOTE: &str = "The lattice's shear strength sits above eq 20 at nu = 0: eq 11 sizes the tangential caps to carry sigma_T alone (all at F_mT they carry 0.88-0.95 sigma_T in an affine estimate), and the normal forces of the bonds inclined to the shear add to them (affine peak 1.4-1.7 sigma_T in each orientation of the lattice, measured 1.08-1.62; docs/patch-tests.md). For s = 1/2 it falls more slowly than eq 20: the cap does not scale with s, only delta_f does, so confined contacts keep a frictional strength; calibration adjusts F_mT.";
+const SHEAR_NOTE: &str = "The lattice's shear strength sits above eq 20 at nu = 0: eq 11 sizes the tangential caps to carry sigma_T alone (all at F_mT they carry 0.88-0.95 sigma_T in an affine estimate), and the normal forces of the bonds inclined to the shear add to them (affine peak 1.4-1.7 sigma_T in each orientation of the lattice, measured 1.08-1.62; docs/patch-tests.md). Dropping the springs of separated pairs at each neighbour-list rebuild, as LAMMPS's neigh/history does, gives the paper's Fig. 6 shape (0.58 below d_c, 0.90 above) but lowers the tensile strength to 0.75. For s = 1/2 it falls more slowly than eq 20: the cap does not scale with s, only delta_f does, so confined contacts keep a frictional strength; calibration adjusts F_mT.";
 
 /// Eq (20) over sigma_N: (d0 / d_c)^(-s) above d_c.
 fn eq20(d0: f64, s: f64) -> f64 {
