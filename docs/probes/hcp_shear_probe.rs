@@ -5,9 +5,10 @@
 //! 90 degrees in their plane (rows along y); 2: layers in the x-z plane (stacked along y, parallel to
 //! the walls: the shear slides them over each other), rows along x; 3: as 2 with rows along z. Not built by the workspace; to run it:
 //!   cp docs/probes/hcp_shear_probe.rs dem/examples/ && cargo build --release -p dem --example hcp_shear_probe
-//!   target/release/examples/hcp_shear_probe D0_OVER_DC TURN PRESSURE
+//!   target/release/examples/hcp_shear_probe D0_OVER_DC TURN PRESSURE [S]
 //! (TURN 0-3; PRESSURE in E, 0 for the fixed-height test only), e.g. `0.6 0 0`, `2.4 1 0`,
-//! `0.6 0 1e-4`. Prints the peaks over the target strengths (eq 20 at s = 0).
+//! `0.6 0 1e-4`, `9.6 0 0 0.5`. S is the scaling exponent of eq 10 (default 0). Prints the peaks over
+//! the target strengths of eq 20.
 use dem::material::{Material, PairModel};
 use dem::sample::Sample;
 use dem::scenario::patch::compaction::{compaction, CompactionConfig};
@@ -20,7 +21,8 @@ fn main() {
         .map(|v| v.parse().unwrap())
         .collect();
     let (d0_over_dc, turn, pressure) = (a[0], a[1] as u32, a[2]);
-    let m = Material::table4(0.0);
+    let mut m = Material::table4(0.0);
+    m.scaling = a.get(3).copied().unwrap_or(0.0);
     let model = PairModel::cohesive(m.clone());
     let d = d0_over_dc * m.critical_diameter();
     let dims = if turn == 3 {
@@ -72,15 +74,12 @@ fn main() {
     let fixed = strength(&s, &model, &cfg, Parallelism::Threads(1)).unwrap();
     println!(
         "d0/dc {d0_over_dc} turned {turn}: fixed height peak / target {:.4}",
-        fixed.strength / m.shear_strength
+        fixed.ratio
     );
     let mut tc = StrengthConfig::paper(StrengthMode::Tensile);
     tc.post_peak_strain = 0.02;
     let t = strength(&s, &model, &tc, Parallelism::Threads(1)).unwrap();
-    println!(
-        "  tensile peak / target {:.4}",
-        t.strength / m.tensile_strength
-    );
+    println!("  tensile peak / target {:.4}", t.ratio);
     if pressure > 0.0 {
         let c = CompactionConfig {
             pressure,

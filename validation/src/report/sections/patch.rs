@@ -234,6 +234,9 @@ fn run_hcp(ctx: &Context) -> Result<SectionOutput> {
                     .note("Paper: measured = target at nu = 0 (no number given; 10 % here). Above d_c with s = 0 the lattice reaches 93 %.")
                     .plotted(fig, t_title, &label, d0),
             );
+            // The paper: "the measured [shear] values are instead lower than the target ones when
+            // d0 < d_c", and equal to it at nu = 0 otherwise.
+            let below_dc = d0 < 1.0;
             claims.push(
                 Claim::new(
                     "000",
@@ -241,9 +244,17 @@ fn run_hcp(ctx: &Context) -> Result<SectionOutput> {
                     format!("HCP shear strength / eq 20, nu = 0, s = {s}, d0 = {d0} d_c"),
                     1.0,
                     sh.ratio,
-                    Tolerance::Relative(0.1),
+                    if below_dc {
+                        Tolerance::Below
+                    } else {
+                        Tolerance::Relative(0.1)
+                    },
                 )
-                .note(SHEAR_NOTE)
+                .note(if below_dc {
+                    SHEAR_NOTE_BELOW_DC
+                } else {
+                    SHEAR_NOTE
+                })
                 .plotted(fig, s_title, &label, d0),
             );
         }
@@ -282,7 +293,8 @@ fn run_hcp(ctx: &Context) -> Result<SectionOutput> {
     })
 }
 
-const SHEAR_NOTE: &str = "The lattice's shear strength sits above eq 20 at nu = 0: eq 11 sizes the tangential caps to carry sigma_T alone (all at F_mT they carry 0.88-0.95 sigma_T in an affine estimate), and the normal forces of the bonds inclined to the shear add to them (affine peak 1.4-1.7 sigma_T in each orientation of the lattice, measured 1.08-1.62; docs/patch-tests.md). Dropping the springs of separated pairs at each neighbour-list rebuild, as LAMMPS's neigh/history does, gives the paper's Fig. 6 shape (0.58 below d_c, 0.90 above) but lowers the tensile strength to 0.75. For s = 1/2 it falls more slowly than eq 20: the cap does not scale with s, only delta_f does, so confined contacts keep a frictional strength; calibration adjusts F_mT.";
+const SHEAR_NOTE_BELOW_DC: &str = "Paper: below the target for d0 < d_c. Here above it, for the reason of the rows above d_c (docs/patch-tests.md); the LAMMPS neighbour-list rule that drops the springs of separated pairs at each rebuild gives 0.58.";
+const SHEAR_NOTE: &str = "The lattice's shear strength sits above eq 20 at nu = 0: eq 11 sizes the tangential caps to carry sigma_T alone (all at F_mT they carry 0.88-0.95 sigma_T in an affine estimate), and the normal forces of the bonds inclined to the shear add to them (affine peak 1.4-1.7 sigma_T in each orientation of the lattice, measured 1.08-1.62; docs/patch-tests.md). Dropping the springs of separated pairs at each neighbour-list rebuild, as LAMMPS's neigh/history does, gives the paper's Fig. 6 (0.58 below d_c; 0.90 above for s = 0, 0.94-1.10 along eq 20 for s = 1/2) but lowers the tensile strength to 0.72-0.76. For s = 1/2 it falls more slowly than eq 20: the cap does not scale with s, only delta_f does, so confined contacts keep a frictional strength; calibration adjusts F_mT.";
 
 /// Eq (20) over sigma_N: (d0 / d_c)^(-s) above d_c.
 fn eq20(d0: f64, s: f64) -> f64 {
