@@ -33,41 +33,11 @@ fn main() {
         Vec3::new(8.0 * d, 8.0 * d, 3.0 * d)
     };
     let mut s = Sample::hcp(dims, d, 1.0).unwrap();
-    if turn == 3 {
-        for p in s.particles.pos.iter_mut() {
-            *p = Vec3::new(p.y, p.x, p.z);
-        }
-        let (lo, hi) = (s.sim_box.lo, s.sim_box.hi);
-        s.sim_box = SimBox::new(
-            Vec3::new(lo.y, lo.x, lo.z),
-            Vec3::new(hi.y, hi.x, hi.z),
-            [true; 3],
-        )
-        .unwrap();
+    if turn == 1 || turn == 3 {
+        swap_axes(&mut s, 0, 1);
     }
     if turn >= 2 {
-        for p in s.particles.pos.iter_mut() {
-            *p = Vec3::new(p.x, p.z, p.y);
-        }
-        let (lo, hi) = (s.sim_box.lo, s.sim_box.hi);
-        s.sim_box = SimBox::new(
-            Vec3::new(lo.x, lo.z, lo.y),
-            Vec3::new(hi.x, hi.z, hi.y),
-            [true; 3],
-        )
-        .unwrap();
-    }
-    if turn == 1 {
-        for p in s.particles.pos.iter_mut() {
-            *p = Vec3::new(p.y, p.x, p.z);
-        }
-        let (lo, hi) = (s.sim_box.lo, s.sim_box.hi);
-        s.sim_box = SimBox::new(
-            Vec3::new(lo.y, lo.x, lo.z),
-            Vec3::new(hi.y, hi.x, hi.z),
-            [true; 3],
-        )
-        .unwrap();
+        swap_axes(&mut s, 1, 2);
     }
     let mut cfg = StrengthConfig::paper(StrengthMode::Shear);
     cfg.post_peak_strain = 0.02;
@@ -106,4 +76,18 @@ fn main() {
             wall / m.shear_strength
         );
     }
+}
+
+/// Exchanges axes `a` and `b` of the sample's positions and box (the lattice is turned with them).
+fn swap_axes(s: &mut Sample, a: usize, b: usize) {
+    let swap = |v: Vec3| {
+        let mut w = v;
+        w[a] = v[b];
+        w[b] = v[a];
+        w
+    };
+    for p in s.particles.pos.iter_mut() {
+        *p = swap(*p);
+    }
+    s.sim_box = SimBox::new(swap(s.sim_box.lo), swap(s.sim_box.hi), [true; 3]).unwrap();
 }
