@@ -56,7 +56,7 @@ impl<P: Problem> Evaluator<'_, P> {
         Ok(v.remove(0))
     }
 
-    pub(super) fn eval(&self, x: &[f64]) -> Outcome {
+    fn eval(&self, x: &[f64]) -> Outcome {
         let m = self.problem.residual_names().len();
         let Some(dir) = &self.dir else {
             return check(self.problem.evaluate(x), m);

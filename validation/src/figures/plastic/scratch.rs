@@ -61,17 +61,7 @@ pub fn fig10(tests: &[ScratchResult]) -> Figure {
     for (k, t) in tests.iter().enumerate() {
         let r0 = &t.runs[0];
         key.push(format!("mu_a = {}, H = {} GPa", r0.mu_a, r0.hardness / 1e9));
-        a.push(line(
-            k,
-            sorted(
-                t.loads
-                    .iter()
-                    .zip(&t.wear_per_distance)
-                    .map(|(f, w)| (f / 1e3, w * MM2))
-                    .collect(),
-            ),
-            Style::Points,
-        ));
+        a.push(line(k, wear_points(t), Style::Points));
     }
     let mut panels = vec![Panel {
         title: "(a) wear per distance".into(),
@@ -130,17 +120,7 @@ pub fn fig3(test: &ScratchResult) -> Figure {
         title: "(a) wear per distance".into(),
         x: "load F_z (kN)".into(),
         y: "W_V per distance (mm^3/mm)".into(),
-        lines: vec![line(
-            0,
-            sorted(
-                test.loads
-                    .iter()
-                    .zip(&test.wear_per_distance)
-                    .map(|(f, w)| (f / 1e3, w * MM2))
-                    .collect(),
-            ),
-            Style::Points,
-        )],
+        lines: vec![line(0, wear_points(test), Style::Points)],
     }];
     let mut key = vec!["this model".into()];
     if let Some(h) = &test.shear_hardness {
@@ -268,4 +248,15 @@ pub fn scratch_figures(tests: &[ScratchResult]) -> Vec<Figure> {
         out.push(fig8_9(run));
     }
     out
+}
+
+/// A test's wear per distance against its load: (F_z in kN, W_V per distance in mm^3/mm), by load.
+fn wear_points(t: &ScratchResult) -> Vec<(f64, f64)> {
+    sorted(
+        t.loads
+            .iter()
+            .zip(&t.wear_per_distance)
+            .map(|(f, w)| (f / 1e3, w * MM2))
+            .collect(),
+    )
 }
