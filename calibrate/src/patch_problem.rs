@@ -94,6 +94,15 @@ impl Unknown {
 }
 
 impl Target {
+    /// Every property, in the order of paper 000 Table 3 (the order every table and figure uses).
+    pub const ALL: [Target; 5] = [
+        Target::YoungModulus,
+        Target::PoissonRatio,
+        Target::TensileStrength,
+        Target::ShearStrength,
+        Target::SurfaceEnergy,
+    ];
+
     pub fn name(self) -> &'static str {
         match self {
             Target::YoungModulus => "young_modulus",

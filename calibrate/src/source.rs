@@ -271,13 +271,7 @@ impl MaterialSource {
 pub fn verified_figures(v: &crate::verification::Verification, units: Units) -> String {
     use crate::patch_problem::Target;
     let mut s = format!("verified on seeds {:?}:", v.seeds);
-    for t in [
-        Target::YoungModulus,
-        Target::PoissonRatio,
-        Target::TensileStrength,
-        Target::ShearStrength,
-        Target::SurfaceEnergy,
-    ] {
+    for t in Target::ALL {
         let c = v.get(t);
         s.push_str(&format!(
             " {} {} ({:+.1} %, spread {:.1} %),",

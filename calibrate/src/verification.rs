@@ -249,13 +249,6 @@ pub fn verify(
     // Always sheared under load: the check a scenario needs of a card.
     let compaction_cfg = inp.settings.compaction;
     tests.compaction = Some(compaction_cfg);
-    let all = [
-        Target::YoungModulus,
-        Target::PoissonRatio,
-        Target::TensileStrength,
-        Target::ShearStrength,
-        Target::SurfaceEnergy,
-    ];
     let jobs = dir.map(JobCache::new);
     let one = |spec: &SampleSpec| -> Result<SampleResult> {
         let key = JobCache::key(&(spec, model, inp.relax, &tests))?;
@@ -274,7 +267,7 @@ pub fn verify(
                 compaction: None,
             },
             Ok(sample) => {
-                let m = measure_on(&sample, model, &all, &tests);
+                let m = measure_on(&sample, model, &Target::ALL, &tests);
                 SampleResult {
                     particles: sample.particles.len(),
                     volume_fraction: sample.volume_fraction(),

@@ -22,14 +22,6 @@ pub struct CalibrateArgs {
     pub out: PathBuf,
 }
 
-const ALL: [Target; 5] = [
-    Target::YoungModulus,
-    Target::PoissonRatio,
-    Target::TensileStrength,
-    Target::ShearStrength,
-    Target::SurfaceEnergy,
-];
-
 /// The summary table: target, uncalibrated and calibrated means over the calibration samples, and
 /// the verification on fresh samples (mean, its error, spread = largest error of one sample).
 pub(crate) fn table(
@@ -52,7 +44,7 @@ pub(crate) fn table(
     let pct = |e: f64| format!("{:+.2}%", 100.0 * e);
     let err = |v: Option<f64>, t: f64| v.map_or("-".to_string(), |v| pct((v - t) / t));
     let val = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.5e}"));
-    for t in ALL {
+    for t in Target::ALL {
         let check = verified.map(|v| v.get(t));
         let Some(tv) = targets.get(t).or(check.map(|c| c.target)) else {
             continue;

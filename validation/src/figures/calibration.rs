@@ -36,14 +36,8 @@ pub fn error_rows(
     verified: Option<&Properties>,
     verified_targets: Option<&Properties>,
 ) -> Vec<ErrorRow> {
-    let all = [
-        Target::YoungModulus,
-        Target::PoissonRatio,
-        Target::TensileStrength,
-        Target::ShearStrength,
-        Target::SurfaceEnergy,
-    ];
-    all.into_iter()
+    Target::ALL
+        .into_iter()
         .filter_map(|t| {
             let fitted = targets.get(t);
             let target = fitted.or_else(|| verified.and(verified_targets)?.get(t))?;

@@ -114,19 +114,11 @@ fn calibrate_case(case: &Case, dir: &Path, par: Parallelism) -> Result<Outcome> 
 /// The closed form's residuals (before the first step): from the card's uncalibrated properties.
 fn first_residuals(o: &calibrate::Outcome, _first: &calibrate::Record) -> Vec<f64> {
     let c = &o.card;
-    TARGETS
+    Target::ALL
         .iter()
         .filter_map(|&t| Some((c.uncalibrated.get(t)? - c.targets.get(t)?) / c.targets.get(t)?))
         .collect()
 }
-
-const TARGETS: [Target; 5] = [
-    Target::YoungModulus,
-    Target::PoissonRatio,
-    Target::TensileStrength,
-    Target::ShearStrength,
-    Target::SurfaceEnergy,
-];
 
 fn run(ctx: &Context) -> Result<SectionOutput> {
     let l = match ctx.profile {
@@ -150,7 +142,7 @@ fn run(ctx: &Context) -> Result<SectionOutput> {
         "Levenberg-Marquardt iteration (-)",
         "(measured - target) / target (%)",
     );
-    let present: Vec<Target> = TARGETS
+    let present: Vec<Target> = Target::ALL
         .iter()
         .copied()
         .filter(|&t| o.targets.get(t).is_some())
@@ -201,7 +193,7 @@ fn run(ctx: &Context) -> Result<SectionOutput> {
         e_panel = e_panel.with(t.name(), Kind::SimulationPoints, pts);
     }
     if let Some(v) = &o.verification {
-        for &t in &TARGETS {
+        for &t in &Target::ALL {
             let c = v.get(t);
             let (tol, note) = if t == Target::SurfaceEnergy {
                 (
