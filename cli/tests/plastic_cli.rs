@@ -180,6 +180,12 @@ fn bad_configs_exit_1_with_the_reason() {
             format!("[model]\nmu_a = 0.0\n{base}angle_deg = 45.0\n"),
             "mu_a",
         ),
+        (
+            // 1.7 GPa written as 1.7: a contact time 1e9 times too long, refused before it runs.
+            "impact",
+            format!("[model]\nhardness = 1.7\n{base}angle_deg = 45.0\n"),
+            "check the inputs' units",
+        ),
         ("impact", format!("{base}angle_deg = 0.0\n"), "(0, 90]"),
         ("impact", format!("{base}angle_deg = 91.0\n"), "(0, 90]"),
         (

@@ -312,7 +312,7 @@ impl JunctionConfig {
     }
 
     /// Number of steps for the sliding time at time step `dt`.
-    pub fn steps(&self, dt: f64) -> u64 {
-        (self.duration / dt).ceil() as u64
+    pub fn steps(&self, dt: f64) -> Result<u64> {
+        crate::scenario::step_budget("the junction shear (duration)", (self.duration / dt).ceil())
     }
 }

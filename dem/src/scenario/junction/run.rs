@@ -162,7 +162,7 @@ pub fn run_resumable(
     }
     rig.set_top(sliding_top(cfg.velocity, traction));
     let dt = rig.sim.dt();
-    let total = cfg.steps(dt);
+    let total = cfg.steps(dt)?;
     let frame_every = (total / cfg.frames).max(1);
     let force_every = (total / cfg.force_samples).max(1);
     let roles: Vec<u8> = (0..rig.free.len())

@@ -242,7 +242,10 @@ pub fn run_impact(cfg: &ImpactConfig) -> Result<ImpactResult> {
         .impact
         .max_time
         .map_or(40.0 * plastic_time, |t| u.time_from_s(t));
-    let max_steps = (max_time / rig.dt).ceil() as u64;
+    let max_steps = crate::scenario::step_budget(
+        "the impact (impact.max_time, or 40 contact times)",
+        (max_time / rig.dt).ceil(),
+    )?;
     let flight =
         u.length_from_m(cfg.impact.start_gap) / (speed * cfg.impact.angle_deg.to_radians().sin());
     let expected = ((flight + 2.0 * plastic_time) / rig.dt).ceil() as u64;

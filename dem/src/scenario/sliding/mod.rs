@@ -281,6 +281,13 @@ impl SlidingConfig {
                 self.pressure
             ));
         }
+        if self.pressure >= self.young_modulus {
+            return bad(format!(
+                "pressure p_N = {:.4e} is not below E = {:.4e}: a strain of order one, far outside \
+                 the elastic pair law (paper 004: p_N of 0.01-0.04 E)",
+                self.pressure, self.young_modulus
+            ));
+        }
         if !(self.distance_over_l.is_finite() && self.distance_over_l > 0.0) {
             return bad(format!(
                 "the sliding distance distance_over_l = {} must be positive",
@@ -337,7 +344,19 @@ impl SlidingConfig {
         if self.force_samples < 1 {
             return bad("force_samples must be at least 1".into());
         }
-        self.model().map(|_| ())
+        let model = self.model()?;
+        // The slide's length in steps, bounded from below before any sample exists: the time step is
+        // a fraction of eq 6's step of the smallest particle, and a particle of 2 d0 (larger than any
+        // of the size distribution) has a longer one. A distance in the wrong units is so refused
+        // before the relaxation and the strength tests rather than after them.
+        let r = self.d0();
+        let mass = self.density * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
+        let dt_max = self.time_step_fraction * model.critical_time_step(r, mass);
+        crate::scenario::step_budget(
+            "the slide (distance_over_l L at the sliding speed)",
+            (self.distance_over_l * self.length / self.velocity() / dt_max).ceil(),
+        )?;
+        Ok(())
     }
 
     /// Checks that `model` is the law this scenario is defined for (paper 004: normal-only, nu = 1/4).
@@ -385,8 +404,11 @@ impl SlidingConfig {
     }
 
     /// Steps for the sliding distance at time step `dt`.
-    pub fn steps(&self, dt: f64) -> u64 {
-        (self.distance_over_l * self.length / self.velocity() / dt).ceil() as u64
+    pub fn steps(&self, dt: f64) -> Result<u64> {
+        crate::scenario::step_budget(
+            "the slide (distance_over_l L at the sliding speed)",
+            (self.distance_over_l * self.length / self.velocity() / dt).ceil(),
+        )
     }
 }
 
@@ -411,6 +433,8 @@ mod tests {
         assert!(with(&|c| c.pressure = 0.0).contains("p_N"));
         assert!(with(&|c| c.pressure = -0.01).contains("p_N"));
         assert!(with(&|c| c.distance_over_l = 0.0).contains("distance"));
+        assert!(with(&|c| c.pressure = 1.0).contains("not below E"));
+        assert!(with(&|c| c.distance_over_l = 1e300).contains("steps, more than"));
         assert!(with(&|c| c.material.d_star = Some(0.6)).contains("does not fit the box"));
         assert!(with(&|c| c.material.d_star = Some(0.005)).contains("not above d0"));
         assert!(with(&|c| {

@@ -251,7 +251,7 @@ pub fn run_resumable(
     let v0 = cfg.velocity();
     rig.set_top(sliding_top(v0, cfg.pressure));
     let dt = rig.sim.dt();
-    let total = cfg.steps(dt);
+    let total = cfg.steps(dt)?;
     let every = (total / (cfg.windows * cfg.samples_per_window)).max(1);
     let window_steps = every * cfg.samples_per_window;
     let force_every = (total / cfg.force_samples).max(1);

@@ -100,7 +100,10 @@ pub fn run_scratch_load(
     let target = u.force_from_n(load);
     let key = progress::settings_key(&(cfg, load, "scratch v1"))?;
     let slide_speed = u.velocity_from_m_s(cfg.slide.speed);
-    let slide_steps = (distance / slide_speed / rig.dt).round().max(1.0) as u64;
+    let slide_steps = crate::scenario::step_budget(
+        "the slide (slide.speed x slide.duration at slide.speed)",
+        (distance / slide_speed / rig.dt).round().max(1.0),
+    )?;
     let every = match cfg.run.record_every {
         0 => (slide_steps / 1000).max(1),
         n => n,
@@ -139,6 +142,11 @@ pub fn run_scratch_load(
         Ok(())
     };
     let max_depth = 0.5 * q.radius;
+    // The indentation stops at the load or at max_depth, whichever comes first.
+    crate::scenario::step_budget(
+        "the indentation (half the indenter's radius at indent.speed)",
+        (max_depth / (u.velocity_from_m_s(cfg.indent.speed) * rig.dt)).ceil(),
+    )?;
     loop {
         if crate::interrupt::requested() {
             save(&mut pr, &rig)?;
