@@ -122,7 +122,7 @@ pub struct Projectile {
 impl Projectile {
     /// Mass (kg) of the solid sphere.
     pub fn mass(&self) -> f64 {
-        self.density * 4.0 / 3.0 * std::f64::consts::PI * self.radius.powi(3)
+        crate::state::sphere_mass(self.density, self.radius)
     }
 
     /// Rejects a non-positive radius or density.

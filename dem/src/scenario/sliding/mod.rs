@@ -350,13 +350,9 @@ impl SlidingConfig {
         // of the size distribution) has a longer one. A distance in the wrong units is so refused
         // before the relaxation and the strength tests rather than after them.
         let r = self.d0();
-        let mass = self.density * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
-        let dt_max = self.time_step_fraction * model.critical_time_step(r, mass);
-        crate::scenario::step_budget(
-            "the slide (distance_over_l L at the sliding speed)",
-            (self.distance_over_l * self.length / self.velocity() / dt_max).ceil(),
-        )?;
-        Ok(())
+        let mass = crate::state::sphere_mass(self.density, r);
+        self.steps(self.time_step_fraction * model.critical_time_step(r, mass))
+            .map(|_| ())
     }
 
     /// Checks that `model` is the law this scenario is defined for (paper 004: normal-only, nu = 1/4).
