@@ -37,6 +37,12 @@ pub struct PipelineArgs {
     /// the MD card converged with 5 where it stalled with 3) at K / 3 times the cost.
     #[arg(long)]
     pub seeds: Option<u64>,
+    /// Sample thickness W in particle diameters (the calibration's samples; the verification keeps
+    /// its own rule, one sample twice as thick); default the config's. Thicker samples scatter less
+    /// and are what a junction is made of (docs/calibration.md: the MD card's shear strength
+    /// transfers to 12 d0 samples only when fitted on them) at W / 6 times the cost.
+    #[arg(long)]
+    pub thickness: Option<f64>,
 }
 
 /// The recipe and solver of an SI card's calibration (the acceptance config of issue 16).
@@ -69,6 +75,17 @@ fn config(args: &PipelineArgs) -> Result<CalibrationConfig> {
             SampleSpec::Hcp { l_over_d0, .. }
             | SampleSpec::Amorphous { l_over_d0, .. }
             | SampleSpec::HexMonolayer { l_over_d0, .. } => *l_over_d0 = l,
+            SampleSpec::File { .. } => {}
+        }
+    }
+    if let Some(w) = args.thickness {
+        if !(w.is_finite() && w > 0.0) {
+            anyhow::bail!("--thickness must be a positive number of particle diameters, not {w}");
+        }
+        match &mut cfg.sample {
+            SampleSpec::Hcp { w_over_d0, .. }
+            | SampleSpec::Amorphous { w_over_d0, .. }
+            | SampleSpec::HexMonolayer { w_over_d0, .. } => *w_over_d0 = w,
             SampleSpec::File { .. } => {}
         }
     }
@@ -141,6 +158,7 @@ mod tests {
             nu: 0.15,
             size: None,
             seeds,
+            thickness: None,
         }
     }
 
@@ -156,5 +174,32 @@ mod tests {
         );
         let e = config(&args(Some(0))).unwrap_err().to_string();
         assert!(e.contains("--seeds"), "{e}");
+    }
+
+    fn w(cfg: &CalibrationConfig) -> f64 {
+        match cfg.sample {
+            SampleSpec::Hcp { w_over_d0, .. } | SampleSpec::Amorphous { w_over_d0, .. } => {
+                w_over_d0
+            }
+            _ => unreachable!("the pipeline's recipes are HCP or amorphous"),
+        }
+    }
+
+    #[test]
+    fn thickness_sets_the_recipe_and_a_bad_one_is_refused() {
+        let a = PipelineArgs {
+            thickness: Some(12.0),
+            ..args(None)
+        };
+        assert_eq!(w(&config(&a).unwrap()), 12.0);
+        assert_ne!(w(&config(&args(None)).unwrap()), 12.0);
+        for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            let a = PipelineArgs {
+                thickness: Some(bad),
+                ..args(None)
+            };
+            let e = config(&a).unwrap_err().to_string();
+            assert!(e.contains("--thickness"), "{e}");
+        }
     }
 }
