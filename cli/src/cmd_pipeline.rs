@@ -81,24 +81,29 @@ fn config(args: &PipelineArgs) -> Result<CalibrationConfig> {
         }
         cfg.recipe.seeds = Some((1..=k).collect());
     }
-    if let Some(l) = args.size {
-        match &mut cfg.sample {
-            SampleSpec::Hcp { l_over_d0, .. }
-            | SampleSpec::Amorphous { l_over_d0, .. }
-            | SampleSpec::HexMonolayer { l_over_d0, .. } => *l_over_d0 = l,
-            SampleSpec::File { .. } => {}
-        }
-    }
     if let Some(w) = thickness {
         if !(w.is_finite() && w > 0.0) {
             anyhow::bail!("--thickness must be a positive number of particle diameters, not {w}");
         }
-        match &mut cfg.sample {
-            SampleSpec::Hcp { w_over_d0, .. }
-            | SampleSpec::Amorphous { w_over_d0, .. }
-            | SampleSpec::HexMonolayer { w_over_d0, .. } => *w_over_d0 = w,
-            SampleSpec::File { .. } => {}
-        }
+    }
+    if let SampleSpec::Hcp {
+        l_over_d0,
+        w_over_d0,
+        ..
+    }
+    | SampleSpec::Amorphous {
+        l_over_d0,
+        w_over_d0,
+        ..
+    }
+    | SampleSpec::HexMonolayer {
+        l_over_d0,
+        w_over_d0,
+        ..
+    } = &mut cfg.sample
+    {
+        *l_over_d0 = args.size.unwrap_or(*l_over_d0);
+        *w_over_d0 = thickness.unwrap_or(*w_over_d0);
     }
     Ok(cfg)
 }

@@ -60,9 +60,10 @@ fn the_main_job_calibrates_and_verifies_its_card() {
 /// by `cgdem pipeline --material CARD` on its defaults (five 12 d0 samples per evaluation), must
 /// converge, verify within 5 % in the mean and 10 % per fresh sample on E, nu and both strengths, and
 /// hold under shear. Output under `runs/issue16-md-pipeline` so that a rerun resumes (docs/
-/// calibration.md, "The MD card on five 12 d0 samples": 4 323 s under load, ~50 min alone).
+/// calibration.md, "The MD card on five 12 d0 samples": 4 323 s under load; alone ~4 min of MD and
+/// ~45 min of pipeline).
 #[test]
-#[ignore = "issue 16 acceptance, ~55 min on 2 cores: cargo test --release -p cgdem --test pipeline -- --ignored"]
+#[ignore = "issue 16 acceptance, ~50 min on 2 cores: cargo test --release -p cgdem --test pipeline -- --ignored"]
 fn the_md_silica_card_converges_verifies_on_fresh_samples_and_holds_under_shear() {
     common::venv_or_fail();
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../runs/issue16-md-pipeline");
