@@ -35,7 +35,7 @@ pub mod trust_region;
 pub mod verification;
 
 pub use card::CalibratedCard;
-pub use config::{card_material, CalibrationConfig, CardRef};
+pub use config::{card_material, CalibrationConfig, CardRef, SI_SEEDS, SI_THICKNESS};
 pub use error::{CalibrateError, Result};
 pub use executor::{Checkpoint, Executor, Method, Record, Settings, State, Status};
 pub use patch_problem::{PatchProblem, Properties, Target, TestSettings, Unknown};

@@ -8,7 +8,7 @@
 //! Table 4 runs on an HCP lattice of `--size` d0 (default 8). An SI card runs the recipe and solver
 //! of `configs/calibrate-silica.toml` (the junction's discretisation: amorphous, d0 = 3 nm,
 //! d_s = 0.75 d0, d_l = 7.5 nm, s = 1/2) with the card's material, on five samples 12 d0 thick
-//! (that config's are three, 6 d0 thick; [`SI_SEEDS`] says why).
+//! (that config's are three, 6 d0 thick; [`calibrate::SI_SEEDS`] says why).
 
 use std::path::PathBuf;
 
@@ -44,67 +44,26 @@ pub struct PipelineArgs {
     pub thickness: Option<f64>,
 }
 
-/// An SI card's calibration samples unless `--seeds` / `--thickness` say otherwise: five samples,
-/// 12 d0 thick. Measured on the MD silica card (docs/calibration.md, "The MD card on five 12 d0
-/// samples"): three 6 d0 samples stall with the shear strength 10 % low on fresh samples, five 6 d0
-/// samples converge and keep it 11 % low (thick samples are weaker in shear and scatter half as
-/// much), five 12 d0 samples converge and verify within 3 % on all four properties.
-const SI_SEEDS: u64 = 5;
-/// See [`SI_SEEDS`]: the thickness a junction's solids have, at twice a 6 d0 sample's cost.
-const SI_THICKNESS: f64 = 12.0;
-
-/// The recipe and solver of an SI card's calibration (the acceptance config of issue 16).
-const SILICA: &str = include_str!("../../configs/calibrate-silica.toml");
-
 fn config(args: &PipelineArgs) -> Result<CalibrationConfig> {
     let mut cfg = match &args.material {
         None => CalibrationConfig::table4_hcp(args.nu, 8.0),
-        Some(path) => {
-            let mut cfg = CalibrationConfig::from_toml(SILICA)?;
-            let mut m = card_material(path)
-                .with_context(|| format!("reading the material card {}", path.display()))?;
-            // The card's own exponent, or the silica recipe's (the junction's s = 1/2) when it
-            // has none (an MD card).
-            m.scaling = m
-                .scaling
-                .or_else(|| cfg.material_si.as_ref().and_then(|t| t.scaling));
-            cfg.material_si = Some(m);
-            cfg
-        }
+        Some(path) => CalibrationConfig::si_card(
+            card_material(path)
+                .with_context(|| format!("reading the material card {}", path.display()))?,
+        )?,
     };
-    let si = args.material.is_some();
-    let seeds = args.seeds.or(si.then_some(SI_SEEDS));
-    let thickness = args.thickness.or(si.then_some(SI_THICKNESS));
-    if let Some(k) = seeds {
+    if let Some(k) = args.seeds {
         if k == 0 {
             anyhow::bail!("--seeds must be at least 1");
         }
         cfg.recipe.seeds = Some((1..=k).collect());
     }
-    if let Some(w) = thickness {
+    if let Some(w) = args.thickness {
         if !(w.is_finite() && w > 0.0) {
             anyhow::bail!("--thickness must be a positive number of particle diameters, not {w}");
         }
     }
-    if let SampleSpec::Hcp {
-        l_over_d0,
-        w_over_d0,
-        ..
-    }
-    | SampleSpec::Amorphous {
-        l_over_d0,
-        w_over_d0,
-        ..
-    }
-    | SampleSpec::HexMonolayer {
-        l_over_d0,
-        w_over_d0,
-        ..
-    } = &mut cfg.sample
-    {
-        *l_over_d0 = args.size.unwrap_or(*l_over_d0);
-        *w_over_d0 = thickness.unwrap_or(*w_over_d0);
-    }
+    cfg.set_sample_size(args.size, args.thickness);
     Ok(cfg)
 }
 
@@ -166,6 +125,7 @@ pub fn run(args: PipelineArgs, threads: usize) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use calibrate::{SI_SEEDS, SI_THICKNESS};
 
     fn args(seeds: Option<u64>) -> PipelineArgs {
         PipelineArgs {
