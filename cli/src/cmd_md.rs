@@ -315,18 +315,7 @@ fn annealed_planes(r: &SilicaResult) -> String {
 fn card(r: &SilicaResult, rec: &JobRecord, cfg: &SilicaConfig) -> Option<MaterialCard> {
     let p = &rec.provenance;
     Some(MaterialCard {
-        material: SiMaterial {
-            name: Some("amorphous silica (LAMMPS SiO.1990.vashishta)".into()),
-            young_modulus: r.young_modulus,
-            poisson_ratio: r.poisson_ratio,
-            tensile_strength: r.tension.as_ref()?.peak_stress,
-            shear_strength: r.shear.as_ref()?.peak_stress,
-            surface_energy: r.surface_energy?,
-            restitution: 0.9,
-            density: r.density,
-            // Eq (10)'s exponent belongs to the discretisation, not to the glass: left to the user.
-            scaling: None,
-        },
+        material: r.material()?,
         provenance: Provenance {
             source: "cgdem md silica (md-bridge, LAMMPS via PyO3, worker process)".into(),
             lammps_version: p.lammps_version.clone(),

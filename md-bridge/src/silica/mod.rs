@@ -260,6 +260,26 @@ pub struct SilicaResult {
     pub timings: Vec<(String, f64)>,
 }
 
+impl SilicaResult {
+    /// The material card's `[material]` table (what `cgdem md silica` writes and the report's MD chain
+    /// calibrates against), or None when a strength or the surface energy was not measured. The
+    /// restitution is not an MD measurement: paper 000 Table 5's 0.9. Eq (10)'s exponent belongs to
+    /// the discretisation, not to the glass: left to the user (None).
+    pub fn material(&self) -> Option<crate::card::SiMaterial> {
+        Some(crate::card::SiMaterial {
+            name: Some("amorphous silica (LAMMPS SiO.1990.vashishta)".into()),
+            young_modulus: self.young_modulus,
+            poisson_ratio: self.poisson_ratio,
+            tensile_strength: self.tension.as_ref()?.peak_stress,
+            shear_strength: self.shear.as_ref()?.peak_stress,
+            surface_energy: self.surface_energy?,
+            restitution: 0.9,
+            density: self.density,
+            scaling: None,
+        })
+    }
+}
+
 /// The first stage of the workflow: the melt-quenched glass relaxed to 0 K, which every
 /// measurement starts from (saved as a stage, so an interrupted job keeps it).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
