@@ -285,3 +285,17 @@ fn an_unknown_section_is_refused_with_the_list() {
         "{err}"
     );
 }
+
+/// The MD chain (MD card -> calibration -> junction) costs about an hour, so the quick profile runs
+/// none of it and says how to; the paper profile's run is documented in docs/calibration.md.
+#[test]
+fn the_quick_profile_names_the_md_chain_without_running_it() {
+    let out = scratch("md-chain");
+    let w = run(&options(&out, &["md-chain"]), &Silent).unwrap();
+    assert!(w.failed_sections().is_empty(), "{:?}", w.failed_sections());
+    assert_eq!((w.cases_run, w.cases_reused), (0, 0));
+    assert_eq!(w.claims().count(), 0);
+    let html = std::fs::read_to_string(&w.html).unwrap();
+    assert!(html.contains("--profile paper --only md-chain"));
+    std::fs::remove_dir_all(out).unwrap();
+}

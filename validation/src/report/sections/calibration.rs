@@ -27,30 +27,30 @@ pub const SECTION: Section = Section {
 const VERSION: u32 = 2;
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
-struct Case {
-    version: u32,
-    config: CalibrationConfig,
+pub(super) struct Case {
+    pub version: u32,
+    pub config: CalibrationConfig,
 }
 
 /// What the report keeps of a calibration.
 #[derive(Debug, Clone, Serialize, Deserialize)]
-struct Outcome {
-    targets: Properties,
-    uncalibrated: Properties,
-    calibrated: Properties,
+pub(super) struct Outcome {
+    pub targets: Properties,
+    pub uncalibrated: Properties,
+    pub calibrated: Properties,
     /// The card re-read and re-measured on the calibration's own sample (must equal `calibrated`).
-    verified: Properties,
+    pub verified: Properties,
     /// The card's `[verification]` table.
-    verification: Option<Verification>,
+    pub verification: Option<Verification>,
     /// Residuals after each iteration (iteration 0: the closed form), in the order of `targets`.
-    errors: Vec<(usize, Vec<f64>)>,
-    costs: Vec<(usize, f64)>,
-    tolerance: f64,
-    iterations: usize,
-    evaluations: usize,
-    status: String,
-    multipliers: [f64; 5],
-    particles: usize,
+    pub errors: Vec<(usize, Vec<f64>)>,
+    pub costs: Vec<(usize, f64)>,
+    pub tolerance: f64,
+    pub iterations: usize,
+    pub evaluations: usize,
+    pub status: String,
+    pub multipliers: [f64; 5],
+    pub particles: usize,
 }
 
 /// The pipeline's default calibration (`cgdem pipeline`): Table 4 at nu = 0.15 on an HCP sample of
@@ -67,7 +67,7 @@ fn config(l: f64) -> CalibrationConfig {
     cfg
 }
 
-fn calibrate_case(case: &Case, dir: &Path, par: Parallelism) -> Result<Outcome> {
+pub(super) fn calibrate_case(case: &Case, dir: &Path, par: Parallelism) -> Result<Outcome> {
     let o = calibrate::calibrate(&case.config, dir, par, None)?;
     let card_path = dir.join("card.toml");
     o.card.write(&card_path)?;

@@ -10,7 +10,7 @@ use md_bridge::card::{length_scales, SiMaterial};
 use md_bridge::job::{run_job, Job, JobOutput, JobRecord, RunOptions};
 use md_bridge::lattice::lattice_sums;
 use md_bridge::model::ModelConfig;
-use md_bridge::silica::SilicaConfig;
+use md_bridge::silica::{SilicaConfig, SilicaResult};
 use serde::{Deserialize, Serialize};
 
 use crate::figures::md::gpa_curve;
@@ -38,13 +38,15 @@ const VERSION: u32 = 1;
 struct Case {
     version: u32,
     job: Job,
+    /// MPI ranks (LAMMPS's results depend on the decomposition, so the cache keeps them apart).
+    np: u32,
 }
 
 fn run_md(ctx: &Context, case: &Case) -> Result<JobRecord> {
     let md = ctx.md()?;
     let opts = RunOptions {
         exe: md.exe.clone(),
-        np: 1,
+        np: case.np,
         cache_dir: md.cache_dir.clone(),
         venv: md.venv.clone(),
         reuse_cache: true,
@@ -55,7 +57,7 @@ fn run_md(ctx: &Context, case: &Case) -> Result<JobRecord> {
 /// The quick profile's glass: 192 atoms (documented scatter: one 648-atom glass already scatters by
 /// +-9 % in sigma_N and +-17 % in gamma, docs/md-bridge.md), short melt and anneal, 0 K elastic
 /// constants (3x cheaper, ~10 % stiffer than at 300 K). The paper profile: the default card (648
-/// atoms, ~5 min on 2 ranks).
+/// atoms, ~5 min on 2 ranks, as `cgdem md silica --np 2` runs it).
 fn silica_config(p: Profile) -> SilicaConfig {
     match p {
         Profile::Quick => SilicaConfig {
@@ -70,7 +72,7 @@ fn silica_config(p: Profile) -> SilicaConfig {
     }
 }
 
-fn provenance(rec: &JobRecord) -> Vec<(String, String)> {
+pub(super) fn provenance(rec: &JobRecord) -> Vec<(String, String)> {
     let p = &rec.provenance;
     let mut v = vec![
         ("LAMMPS version".to_string(), p.lammps_version.clone()),
@@ -96,11 +98,19 @@ fn job_name(j: &Job) -> &'static str {
     }
 }
 
-fn run_silica(ctx: &Context) -> Result<SectionOutput> {
+/// The profile's MD silica glass and its measurements (one cached MD job, shared with the MD chain
+/// section, which calibrates the DEM against this card).
+pub(super) fn silica(ctx: &Context) -> Result<JobRecord> {
     let cfg = silica_config(ctx.profile);
     let case = Case {
         version: VERSION,
-        job: Job::Silica(cfg.clone()),
+        job: Job::Silica(cfg),
+        // The paper profile's card is the one `cgdem md silica --np 2` writes (docs/md-bridge.md),
+        // to the bit; the quick profile's small glass runs on one rank.
+        np: match ctx.profile {
+            Profile::Quick => 1,
+            Profile::Paper => 2,
+        },
     };
     let rec = ctx
         .jobs(
@@ -110,12 +120,20 @@ fn run_silica(ctx: &Context) -> Result<SectionOutput> {
         )?
         .pop()
         .ok_or_else(|| ValidationError::Report("MD silica: no result".into()))?;
-    let JobOutput::Silica(r) = &rec.output else {
-        return Err(ValidationError::Report(format!(
-            "MD silica gave {:?}",
-            rec.output
-        )));
-    };
+    Ok(rec)
+}
+
+/// The silica measurements of a record from [`silica`].
+pub(super) fn silica_result(rec: &JobRecord) -> Result<&SilicaResult> {
+    match &rec.output {
+        JobOutput::Silica(r) => Ok(r),
+        other => Err(ValidationError::Report(format!("MD silica gave {other:?}"))),
+    }
+}
+
+fn run_silica(ctx: &Context) -> Result<SectionOutput> {
+    let rec = silica(ctx)?;
+    let r = silica_result(&rec)?;
     let t5 = SiMaterial::table5();
     let fig = "md-silica";
     let (t_title, s_title) = (
@@ -255,6 +273,7 @@ fn run_model(ctx: &Context) -> Result<SectionOutput> {
     let case = Case {
         version: VERSION,
         job: Job::Model(cfg.clone()),
+        np: 1,
     };
     let rec = ctx
         .jobs(

@@ -6,6 +6,7 @@ pub mod compare;
 pub mod force_laws;
 pub mod junction;
 pub mod md;
+pub mod md_chain;
 pub mod patch;
 pub mod performance;
 pub mod plastic;
@@ -23,6 +24,7 @@ pub fn all() -> Vec<Section> {
         patch::AMORPHOUS,
         calibration::SECTION,
         md::SILICA,
+        md_chain::SECTION,
         md::MODEL,
         performance::SECTION,
         junction::SECTION,
