@@ -124,7 +124,7 @@ fn search_case(profile: Profile) -> SearchCase {
 }
 
 /// Fraction of the runs at (d0, D) that detached a wear particle.
-fn debris_fraction(runs: &[JunctionSummary], d0: f64, d: f64) -> Option<f64> {
+pub(super) fn debris_fraction(runs: &[JunctionSummary], d0: f64, d: f64) -> Option<f64> {
     let sel: Vec<&JunctionSummary> = runs
         .iter()
         .filter(|r| r.d0 == d0 && r.diameter == d)

@@ -15,9 +15,9 @@ use dem::material::ForceLaw;
 use dem::scenario::junction::JunctionConfig;
 use md_bridge::card::SiMaterial;
 use serde::{Deserialize, Serialize};
-use wear::Outcome;
 
 use super::calibration::{calibrate_case, Case as CalibrationCase, Outcome as Calibration};
+use super::junction::debris_fraction;
 use super::md::{provenance, silica, silica_result};
 use crate::report::claim::sig;
 use crate::report::{
@@ -154,16 +154,7 @@ fn run(ctx: &Context) -> Result<SectionOutput> {
 fn wear_fractions(runs: &[JunctionSummary]) -> Vec<(f64, f64)> {
     DIAMETERS
         .iter()
-        .filter_map(|&d| {
-            let at: Vec<_> = runs.iter().filter(|r| r.diameter == d).collect();
-            (!at.is_empty()).then(|| {
-                let wear = at
-                    .iter()
-                    .filter(|r| r.outcome == Outcome::WearParticle)
-                    .count();
-                (d, wear as f64 / at.len() as f64)
-            })
-        })
+        .filter_map(|&d| debris_fraction(runs, D0, d).map(|f| (d, f)))
         .collect()
 }
 
@@ -348,6 +339,7 @@ mod tests {
     use calibrate::verification::CompactionCheck;
     use calibrate::Check;
     use dem::sample::SampleSpec;
+    use wear::Outcome;
 
     fn check(target: f64, values: &[f64]) -> Check {
         let mean = values.iter().sum::<f64>() / values.len() as f64;
