@@ -39,8 +39,8 @@ pub struct Provenance {
     pub status: Status,
     pub iterations: usize,
     pub evaluations: usize,
-    /// Wall time of the process that finished the calibration, s (a resumed run counts its own part),
-    /// and of its verification (included).
+    /// Wall time of the calibration, s, summed over every process that ran it (as checkpointed), plus
+    /// the verification of the process that wrote the card; and that verification's part.
     pub wall_seconds: f64,
     #[serde(default)]
     pub verification_seconds: f64,

@@ -72,7 +72,6 @@ pub fn calibrate(
     par: Parallelism,
     stop_after: Option<usize>,
 ) -> Result<Outcome> {
-    let t0 = std::time::Instant::now();
     // Refusals and config errors come before any file or simulation.
     let p = cfg.prepare()?;
     std::fs::create_dir_all(out).map_err(|e| CalibrateError::io(out, e))?;
@@ -153,7 +152,7 @@ pub fn calibrate(
             status: cp.state.status.clone(),
             iterations: cp.state.iteration,
             evaluations: cp.state.evaluations,
-            wall_seconds: t0.elapsed().as_secs_f64(),
+            wall_seconds: cp.state.wall_seconds + t1.elapsed().as_secs_f64(),
             verification_seconds: t1.elapsed().as_secs_f64(),
             notes,
         },

@@ -7,7 +7,7 @@
 
 use std::path::{Path, PathBuf};
 
-use calibrate::{calibrate, remeasure, CalibrationConfig, Checkpoint, Outcome, Properties, Status};
+use calibrate::{calibrate, remeasure, CalibrationConfig, Outcome, Properties, Status};
 use dem::Parallelism;
 
 const BASE: &str =
@@ -34,11 +34,6 @@ fn tmp(name: &str) -> PathBuf {
 
 fn max_abs(r: &[f64]) -> f64 {
     r.iter().fold(0.0f64, |a, v| a.max(v.abs()))
-}
-
-fn strip_times(mut cp: Checkpoint) -> Checkpoint {
-    cp.history.iter_mut().for_each(|r| r.seconds = 0.0);
-    cp
 }
 
 const ELASTIC_ONLY: &str =
@@ -110,8 +105,8 @@ fn killed_calibration_resumes_to_the_same_result_bit_for_bit() {
     assert_eq!(part.checkpoint.state.status, Status::Running);
     let resumed = calibrate(&cfg, &b, dem::Parallelism::Sequential, None).unwrap();
     assert_eq!(
-        strip_times(resumed.checkpoint),
-        strip_times(whole.checkpoint.clone())
+        resumed.checkpoint.without_times(),
+        whole.checkpoint.clone().without_times()
     );
     assert_eq!(resumed.card.model, whole.card.model);
     // A run stopped by its budget continues when the budget grows (same checkpoint, same end).
@@ -122,8 +117,8 @@ fn killed_calibration_resumes_to_the_same_result_bit_for_bit() {
     assert_eq!(stopped.checkpoint.state.status, Status::MaxIterations);
     let more = calibrate(&cfg, &c, dem::Parallelism::Sequential, None).unwrap();
     assert_eq!(
-        strip_times(more.checkpoint),
-        strip_times(whole.checkpoint.clone())
+        more.checkpoint.without_times(),
+        whole.checkpoint.clone().without_times()
     );
     let _ = std::fs::remove_dir_all(&c);
     let _ = std::fs::remove_dir_all(&a);

@@ -9,7 +9,7 @@
 
 use std::path::{Path, PathBuf};
 
-use calibrate::{calibrate, CalibratedCard, CalibrationConfig, Checkpoint, Problem, Status};
+use calibrate::{calibrate, CalibratedCard, CalibrationConfig, Problem, Status};
 use dem::Parallelism;
 
 const TINY: &str = r#"
@@ -43,11 +43,6 @@ fn tmp(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("calibrate-recipe-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     d
-}
-
-fn strip_times(mut cp: Checkpoint) -> Checkpoint {
-    cp.history.iter_mut().for_each(|r| r.seconds = 0.0);
-    cp
 }
 
 fn card_without_provenance(out: &Path) -> toml::Value {
@@ -198,8 +193,8 @@ fn recipe_level_calibration_is_cached_thread_independent_resumable_and_verified(
     assert!(!b.join("card.toml").exists());
     let resumed = calibrate(&cfg, &b, Parallelism::Sequential, None).unwrap();
     assert_eq!(
-        strip_times(resumed.checkpoint.clone()),
-        strip_times(whole.checkpoint.clone())
+        resumed.checkpoint.clone().without_times(),
+        whole.checkpoint.clone().without_times()
     );
     assert_eq!(card_without_provenance(&b), card_without_provenance(&a));
 
@@ -214,8 +209,8 @@ fn recipe_level_calibration_is_cached_thread_independent_resumable_and_verified(
     // One thread from the start: the same bits as two.
     let serial = calibrate(&cfg, &c, Parallelism::Sequential, None).unwrap();
     assert_eq!(
-        strip_times(serial.checkpoint),
-        strip_times(whole.checkpoint.clone())
+        serial.checkpoint.without_times(),
+        whole.checkpoint.clone().without_times()
     );
     for d in [a, b, c] {
         let _ = std::fs::remove_dir_all(d);

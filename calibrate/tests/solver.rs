@@ -144,9 +144,42 @@ fn a_failing_first_guess_is_an_error() {
     assert!(matches!(e, CalibrateError::StartFailed(_)), "{e}");
 }
 
-fn strip_times(mut cp: Checkpoint) -> Checkpoint {
-    cp.history.iter_mut().for_each(|r| r.seconds = 0.0);
-    cp
+#[test]
+fn a_resumed_run_adds_its_wall_time_to_what_the_checkpoint_recorded() {
+    let dir = std::env::temp_dir().join(format!("calibrate-wall-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let p = ExpFit::new(false);
+    let s = Settings {
+        fd_step: 1e-4,
+        ..settings()
+    };
+    let part = Executor::new(&p, vec![0.0, 0.3], s, "exp")
+        .checkpoint_dir(&dir)
+        .stop_after(2)
+        .run()
+        .unwrap();
+    assert!(part.state.wall_seconds > 0.0);
+    // As if the first process had run for 1000 s before its kill.
+    let path = dir.join("checkpoint.json");
+    let mut cp: Checkpoint = serde_json::from_slice(&std::fs::read(&path).unwrap()).unwrap();
+    cp.state.wall_seconds = 1000.0;
+    std::fs::write(&path, serde_json::to_vec(&cp).unwrap()).unwrap();
+    let t = std::time::Instant::now();
+    let done = Executor::new(&p, vec![0.0, 0.3], s, "exp")
+        .checkpoint_dir(&dir)
+        .run()
+        .unwrap();
+    let own = t.elapsed().as_secs_f64();
+    assert!(done.history.len() > 2);
+    let resumed = &done.history[2..];
+    assert!(resumed.iter().all(|r| r.seconds >= 1000.0), "{resumed:?}");
+    assert!(resumed.windows(2).all(|w| w[0].seconds <= w[1].seconds));
+    let w = done.state.wall_seconds;
+    assert!(
+        (1000.0..=1000.0 + own).contains(&w),
+        "{w} s after 1000 + {own} s"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -178,7 +211,10 @@ fn a_killed_run_resumes_to_the_same_result_bit_for_bit_without_redoing_work() {
         .checkpoint_dir(&b)
         .run()
         .unwrap();
-    assert_eq!(strip_times(resumed.clone()), strip_times(full.clone()));
+    assert_eq!(
+        resumed.clone().without_times(),
+        full.clone().without_times()
+    );
     for (p, q) in resumed.state.x.iter().zip(&full.state.x) {
         assert_eq!(p.to_bits(), q.to_bits());
     }
@@ -196,7 +232,7 @@ fn a_killed_run_resumes_to_the_same_result_bit_for_bit_without_redoing_work() {
         .run()
         .unwrap();
     assert_eq!(third.calls.load(Ordering::SeqCst), 0);
-    assert_eq!(strip_times(again), strip_times(full.clone()));
+    assert_eq!(again.without_times(), full.clone().without_times());
     // A run stopped by its budget continues when the budget grows, to the same end point.
     let c = tmp.join("c");
     let small = Settings {
@@ -212,7 +248,7 @@ fn a_killed_run_resumes_to_the_same_result_bit_for_bit_without_redoing_work() {
         .checkpoint_dir(&c)
         .run()
         .unwrap();
-    assert_eq!(strip_times(more), strip_times(full.clone()));
+    assert_eq!(more.without_times(), full.clone().without_times());
     // Other inputs refuse the checkpoint instead of mixing two calibrations.
     let e = Executor::new(&third, vec![0.1, 0.3], s, "exp")
         .checkpoint_dir(&b)
@@ -336,7 +372,7 @@ fn broyden_and_central_differences_reach_the_noise_floor_with_fewer_evaluations(
         .checkpoint_dir(&tmp)
         .run()
         .unwrap();
-    assert_eq!(strip_times(resumed), strip_times(br));
+    assert_eq!(resumed.without_times(), br.without_times());
     let _ = std::fs::remove_dir_all(&tmp);
 }
 
@@ -491,6 +527,6 @@ fn the_trust_region_honours_the_reported_noise_and_resumes_bit_for_bit() {
         .checkpoint_dir(&tmp)
         .run()
         .unwrap();
-    assert_eq!(strip_times(resumed), strip_times(cp));
+    assert_eq!(resumed.without_times(), cp.without_times());
     let _ = std::fs::remove_dir_all(&tmp);
 }

@@ -139,7 +139,7 @@ pub(crate) fn run_config(
         c.model.scale.f_mt
     );
     let mut text = format!(
-        "{}\n{multipliers}\nstatus {:?}, {} iterations, {} evaluations ({} sample(s) each), {:.1} s (this process)\n",
+        "{}\n{multipliers}\nstatus {:?}, {} iterations, {} evaluations ({} sample(s) each), {:.1} s (over every run of it)\n",
         table(
             &c.targets,
             &c.uncalibrated,

@@ -55,7 +55,9 @@ pub struct Executor<'a, P: Problem> {
     observers: Vec<Observer<'a>>,
     stop_after: Option<usize>,
     threads: usize,
+    /// Start of this process's part and the wall time the checkpoint had already recorded.
     t0: Instant,
+    seconds_before: f64,
 }
 
 impl<P: Problem> std::fmt::Debug for Executor<'_, P> {
@@ -96,6 +98,7 @@ impl<'a, P: Problem> Executor<'a, P> {
             stop_after: None,
             threads: 1,
             t0: Instant::now(),
+            seconds_before: 0.0,
         }
     }
 
@@ -134,7 +137,13 @@ impl<'a, P: Problem> Executor<'a, P> {
 }
 
 impl<'a, P: Problem> Executor<'a, P> {
-    fn save(&self, cp: &Checkpoint) -> Result<()> {
+    /// Wall time of the calibration so far: the earlier processes' (as checkpointed) and this one's.
+    fn wall_seconds(&self) -> f64 {
+        self.seconds_before + self.t0.elapsed().as_secs_f64()
+    }
+
+    fn save(&self, cp: &mut Checkpoint) -> Result<()> {
+        cp.state.wall_seconds = self.wall_seconds();
         if let Some(dir) = &self.ev.dir {
             let path = dir.join("checkpoint.json");
             let bytes =
@@ -144,7 +153,7 @@ impl<'a, P: Problem> Executor<'a, P> {
         Ok(())
     }
 
-    fn load_or_start(&self) -> Result<Checkpoint> {
+    fn load_or_start(&mut self) -> Result<Checkpoint> {
         if let Some(dir) = &self.ev.dir {
             let path = dir.join("checkpoint.json");
             if path.exists() {
@@ -160,6 +169,7 @@ impl<'a, P: Problem> Executor<'a, P> {
                 }
                 tracing::info!(iteration = cp.state.iteration, "resuming from checkpoint");
                 let mut cp = cp;
+                self.seconds_before = cp.state.wall_seconds;
                 if matches!(cp.state.status, Status::Converged | Status::MaxIterations) {
                     // Re-judged with the current stopping rules (a larger budget continues).
                     cp.state.status = Status::Running;
@@ -171,7 +181,7 @@ impl<'a, P: Problem> Executor<'a, P> {
             .ev
             .one(&self.x0)?
             .map_err(|EvalFailure(e)| CalibrateError::StartFailed(e))?;
-        let cp = Checkpoint {
+        let mut cp = Checkpoint {
             fingerprint: self.ev.fingerprint.clone(),
             residual_names: self.ev.problem.residual_names(),
             r0: m.r.clone(),
@@ -193,10 +203,11 @@ impl<'a, P: Problem> Executor<'a, P> {
                 moved: false,
                 evaluations: 1,
                 status: Status::Running,
+                wall_seconds: 0.0,
             },
             history: Vec::new(),
         };
-        self.save(&cp)?;
+        self.save(&mut cp)?;
         Ok(cp)
     }
 
@@ -237,7 +248,7 @@ impl<'a, P: Problem> Executor<'a, P> {
                 return Ok(cp);
             }
             if st.status != Status::Running {
-                self.save(&cp)?;
+                self.save(&mut cp)?;
                 break;
             }
             match s.method {
@@ -251,13 +262,13 @@ impl<'a, P: Problem> Executor<'a, P> {
                         st.jacobian = Some(j);
                         st.moved = false;
                         // Keep the finite-difference work even if the process dies in the trial.
-                        self.save(&cp)?;
+                        self.save(&mut cp)?;
                     }
                     self.iterate_lm(&mut cp)?;
                 }
                 Method::TrustRegion => self.iterate_tr(&mut cp)?,
             }
-            self.save(&cp)?;
+            self.save(&mut cp)?;
         }
         Ok(cp)
     }
@@ -310,7 +321,7 @@ impl<'a, P: Problem> Executor<'a, P> {
             lambda,
             r: st.r.clone(),
             evaluations: st.evaluations,
-            seconds: self.t0.elapsed().as_secs_f64(),
+            seconds: self.wall_seconds(),
         };
         tracing::info!(
             iteration = rec.iteration,

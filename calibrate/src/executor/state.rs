@@ -159,6 +159,11 @@ pub struct State {
     /// Evaluations requested (cache hits included, so the count is the same after a resume).
     pub evaluations: usize,
     pub status: Status,
+    /// Wall time spent on the calibration up to this checkpoint, s, summed over the processes that
+    /// ran it (a kill loses the part of the iteration it interrupts; its cached evaluations are
+    /// then reused for free).
+    #[serde(default)]
+    pub wall_seconds: f64,
 }
 
 /// One line of the iteration history.
@@ -182,7 +187,8 @@ pub struct Record {
     /// Residuals at the current point after this iteration.
     pub r: Vec<f64>,
     pub evaluations: usize,
-    /// Wall time since the start of this process (not compared on resume).
+    /// Wall time of the calibration up to this record, s, over all the processes that ran it (not
+    /// compared on resume: see [`Checkpoint::without_times`]).
     pub seconds: f64,
 }
 
@@ -197,6 +203,16 @@ pub struct Checkpoint {
     pub noise0: Vec<f64>,
     pub state: State,
     pub history: Vec<Record>,
+}
+
+impl Checkpoint {
+    /// The checkpoint with its wall times set to zero: what a resumed run must reproduce bit for bit
+    /// (everything else is a function of the inputs).
+    pub fn without_times(mut self) -> Checkpoint {
+        self.state.wall_seconds = 0.0;
+        self.history.iter_mut().for_each(|r| r.seconds = 0.0);
+        self
+    }
 }
 
 /// FNV-1a 64 of the parts: a hash that is stable across Rust versions and platforms.
