@@ -251,6 +251,17 @@ fn the_sliding_section_reports_the_trends_of_fig_6_from_its_runs() {
                 .all(|c| c.measured.is_finite() && c.measured > 0.0),
             "{pt:?}"
         );
+        // Each names the layer's measured agitation, the cause docs/sliding.md measured.
+        for c in &pt {
+            let a: f64 = c
+                .note
+                .split("agitated (")
+                .nth(1)
+                .and_then(|t| t.split(' ').next())
+                .and_then(|v| v.parse().ok())
+                .unwrap_or_else(|| panic!("no agitation in {:?}", c.note));
+            assert!(a > 0.0 && a < 10.0, "{}", c.note);
+        }
     }
     let tau = |name: &str| -> Vec<f64> {
         section3
