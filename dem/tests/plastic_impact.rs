@@ -69,6 +69,32 @@ fn normal_impact_wear_against_eq16() {
         assert!(r.energy.max_balance_error < 1e-4);
         assert!(r.wear_volume_scratch == 0.0 && r.deviation_deg.abs() < 1e-9);
     }
+    // The rebound returns the Hertzian energy of the spheres held at the flow threshold under the
+    // crater, in closed form with the paper's constants (not the engine's): each flowing sphere
+    // carries F = a_s H at the Hertz overlap delta(F) (E* = E / 2(1 - nu^2), R* of a 1 cm and a
+    // 0.25 mm sphere) and stores 2/5 F delta; the crater's contact disc pi a^2 = 2 pi R_p h holds
+    // pi a^2 / a_s of them, with h from the measured volume (W_V = pi h^2 R_p). So
+    // E_el = (4/5) pi R_p h H delta, a_s cancelling but in delta. Measured: the rebound is 1.06-1.20
+    // times this (the crater's rim adds spheres loaded below the threshold, eq 16's shape ignores
+    // them); asserted within [1.0, 1.3]. At 7 GPa it is 17 % of E0, which alone puts eq 16 out of
+    // its 15 % band: no Hertzian surface with these constants meets eq 16 there.
+    let (rp, rs): (f64, f64) = (0.01, 0.25e-3);
+    let e_star = 200e9 / (2.0 * (1.0 - 0.3f64 * 0.3));
+    let r_star = rp * rs / (rp + rs);
+    let a_s = 0.0935 * 0.0168 / 5012.0;
+    for (what, x, r) in &rows {
+        let f = a_s * r.hardness;
+        let delta = (f / (4.0 / 3.0 * e_star * r_star.sqrt())).powf(2.0 / 3.0);
+        let h = (r.wear_volume / (std::f64::consts::PI * rp)).sqrt();
+        let stored = 0.8 * std::f64::consts::PI * rp * h * r.hardness * delta;
+        let ratio = r.energy.kinetic / stored;
+        println!(
+            "{what} = {x:e}: rebound {:.3e} J, Hertz at the threshold {stored:.3e} J ({:.1} % of E0), ratio {ratio:.3}",
+            r.energy.kinetic,
+            100.0 * stored / r.energy.initial_kinetic
+        );
+        assert!((1.0..=1.3).contains(&ratio), "{what} = {x}: {ratio}");
+    }
     // Harder surface, larger rebound, larger shortfall: the trend the elastic storage explains.
     let by_h: Vec<&ImpactResult> = rows.iter().filter(|r| r.0 == "H").map(|r| &r.2).collect();
     for w in by_h.windows(2) {
