@@ -7,6 +7,7 @@
 use serde::{Deserialize, Serialize};
 use wear::Outcome;
 
+use super::junction::{bracket_box, with_outcomes};
 use crate::compare::summary::{centre, d50_words, probability_series, CompareResult, Span};
 use crate::compare::{compare, CompareFile, CompareRun};
 use crate::report::claim::sig;
@@ -263,29 +264,19 @@ fn figure(r: &CompareResult) -> Figure {
     };
     let boxed = |b: &Span, lo: f64, hi: f64| -> Vec<(f64, f64)> {
         match b {
-            [Some(l), Some(u)] => {
-                let (l, u) = (l / t, u / t);
-                vec![(l, lo), (l, hi), (u, hi), (u, lo), (l, lo)]
-            }
+            [Some(l), Some(u)] => bracket_box(l / t, u / t, lo, hi),
             _ => vec![],
         }
     };
     let md_rows = r.md.seeds.len() as f64;
-    let mut p = Panel::new(
-        "outcome of each run against D / d* of eq 22",
-        "junction width D / d* of eq 22 (-)",
-        "run",
-    )
-    .rows(rows.iter().map(|(name, _)| name.clone()).collect())
-    .with(
-        "plastic smoothing",
-        Kind::SimulationMarks,
-        marks(Outcome::PlasticSmoothing),
-    )
-    .with(
-        "wear particle",
-        Kind::SimulationMarks,
-        marks(Outcome::WearParticle),
+    let mut p = with_outcomes(
+        Panel::new(
+            "outcome of each run against D / d* of eq 22",
+            "junction width D / d* of eq 22 (-)",
+            "run",
+        )
+        .rows(rows.iter().map(|(name, _)| name.clone()).collect()),
+        marks,
     )
     .with(
         format!("eq 22 from the MD card ({} sigma)", sig(t, 3)),

@@ -397,21 +397,14 @@ fn outcome_map(runs: &[JunctionSummary], s: &DstarResult) -> Figure {
             .collect()
     };
     let vline = |x: f64| vec![(x, -0.5), (x, rows - 0.5)];
-    let mut search_panel = Panel::new(
-        &format!("d* search at d0 = {} nm", s.d0),
-        "junction diameter D (nm)",
-        "run",
-    )
-    .rows(s.seeds.iter().map(|k| format!("seed {k}")).collect())
-    .with(
-        "plastic smoothing",
-        Kind::SimulationMarks,
-        marks(Outcome::PlasticSmoothing),
-    )
-    .with(
-        "wear particle",
-        Kind::SimulationMarks,
-        marks(Outcome::WearParticle),
+    let mut search_panel = with_outcomes(
+        Panel::new(
+            &format!("d* search at d0 = {} nm", s.d0),
+            "junction diameter D (nm)",
+            "run",
+        )
+        .rows(s.seeds.iter().map(|k| format!("seed {k}")).collect()),
+        marks,
     )
     .with(
         "eq 22, Table 5",
@@ -421,14 +414,7 @@ fn outcome_map(runs: &[JunctionSummary], s: &DstarResult) -> Figure {
     .with(
         "paper 000: 10 < d* < 20 nm",
         Kind::Reference,
-        // The bracket as a box (one dashed path, no diagonal between its two sides).
-        vec![
-            (10.0, -0.5),
-            (10.0, rows - 0.5),
-            (20.0, rows - 0.5),
-            (20.0, -0.5),
-            (10.0, -0.5),
-        ],
+        bracket_box(10.0, 20.0, -0.5, rows - 0.5),
     );
     if let Some(d) = s.dstar_eq22_measured_target_gamma {
         search_panel =
@@ -488,6 +474,27 @@ fn page(outs: &[RunOut], s: &DstarResult, profile: Profile) -> String {
         ))
     );
     h
+}
+
+/// Each run's outcome as marks at (x, row): the two series of every junction-outcome panel (this
+/// section's d* search and the DEM-against-MD comparison).
+pub(super) fn with_outcomes(p: Panel, marks: impl Fn(Outcome) -> Vec<(f64, f64)>) -> Panel {
+    p.with(
+        "plastic smoothing",
+        Kind::SimulationMarks,
+        marks(Outcome::PlasticSmoothing),
+    )
+    .with(
+        "wear particle",
+        Kind::SimulationMarks,
+        marks(Outcome::WearParticle),
+    )
+}
+
+/// A bracket lo < x < hi over the rows y0..y1 as one closed dashed path (a box, with no diagonal
+/// between its two sides).
+pub(super) fn bracket_box(lo: f64, hi: f64, y0: f64, y1: f64) -> Vec<(f64, f64)> {
+    vec![(lo, y0), (lo, y1), (hi, y1), (hi, y0), (lo, y0)]
 }
 
 #[cfg(test)]
