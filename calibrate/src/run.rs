@@ -113,6 +113,7 @@ pub fn calibrate(
         let dir = out.join("verify");
         Some(pool(par)?.install(|| verify(&model, inputs, &prob.cache, Some(&dir)))?)
     };
+    let verification_seconds = t1.elapsed().as_secs_f64();
     let mut notes: Vec<String> = p
         .design_poisson_ratio
         .map(|nu| {
@@ -152,8 +153,8 @@ pub fn calibrate(
             status: cp.state.status.clone(),
             iterations: cp.state.iteration,
             evaluations: cp.state.evaluations,
-            wall_seconds: cp.state.wall_seconds + t1.elapsed().as_secs_f64(),
-            verification_seconds: t1.elapsed().as_secs_f64(),
+            wall_seconds: cp.state.wall_seconds + verification_seconds,
+            verification_seconds,
             notes,
         },
     };
