@@ -250,7 +250,16 @@ impl NeighborList {
         let skin = self.skin;
         let rc = range.max_cutoff(r_max) + skin;
         let grid = CellGrid::new(pos, bx, rc, cell_edge(radius, range, skin))?;
-        let (cell_start, cell_particles) = grid.bin(pos);
+        let (cell_start, mut cell_particles) = grid.bin(pos);
+        // Each cell's particles by ascending radius (ties by index), so that a particle's scan of a
+        // cell stops at the first larger partner: those pairs are found from the other side.
+        for w in cell_start.windows(2) {
+            cell_particles[w[0] as usize..w[1] as usize].sort_unstable_by(|&a, &b| {
+                radius[a as usize]
+                    .total_cmp(&radius[b as usize])
+                    .then(a.cmp(&b))
+            });
+        }
         // Positions and radii in cell order, so that a cell's candidates are read from one run of
         // memory.
         let cell_xr: Vec<[f64; 4]> = cell_particles
@@ -266,16 +275,21 @@ impl NeighborList {
         const CHUNK: usize = 512;
         let search = |c: usize| {
             let mut out: Vec<(u32, u32, Image)> = Vec::new();
+            let mut steps: [Vec<AxisStep>; 3] = Default::default();
             for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
                 let (xi, ri) = (pos[i], radius[i]);
                 // Every partner's cutoff is below this reach; the cheap bound ri + rj + beyond
                 // screens candidates before the exact (possibly powf) cutoff is evaluated.
                 let reach = range.max_cutoff(ri) + skin;
                 let beyond = range.beyond_contact(ri) + skin;
-                grid.for_each_cell_within(grid.cell_of(&xi), reach, |cell, img| {
+                grid.for_each_cell_within(grid.cell_of(&xi), reach, &mut steps, |cell, img| {
                     let o = bx.shift(img) - xi;
                     let (s, e) = (cell_start[cell] as usize, cell_start[cell + 1] as usize);
                     for (&j, &[x, y, z, rj]) in cell_particles[s..e].iter().zip(&cell_xr[s..e]) {
+                        // A cell's particles are in ascending radius: the rest are all larger.
+                        if rj > ri {
+                            break;
+                        }
                         let j = j as usize;
                         let larger = rj < ri || (rj == ri && j < i);
                         if !(larger || (j == i && positive_image(img))) {
@@ -536,45 +550,77 @@ impl CellGrid {
     /// Calls `f(cell, image)` for every cell within `reach` of `cell` (27 cells when the reach is one
     /// cell edge) in the unwrapped tiling, with the image of each periodic copy; every (cell, image)
     /// combination is distinct even when an axis has one or two cells. Images beyond one box length
-    /// are left out: positions lie in the box and every range is shorter than it.
-    fn for_each_cell_within(&self, cell: usize, reach: f64, mut f: impl FnMut(usize, Image)) {
+    /// are left out: positions lie in the box and every range is shorter than it. `steps` is scratch
+    /// for the three axes' offsets, reused across calls: a large particle's stencil has hundreds of
+    /// cells but only 2k + 1 offsets per axis, each costing an integer division once, not per cell.
+    fn for_each_cell_within(
+        &self,
+        cell: usize,
+        reach: f64,
+        steps: &mut [Vec<AxisStep>; 3],
+        mut f: impl FnMut(usize, Image),
+    ) {
         let c = [
             cell % self.n[0],
             (cell / self.n[0]) % self.n[1],
             cell / (self.n[0] * self.n[1]),
         ];
-        let k: [i64; 3] = std::array::from_fn(|a| (reach / self.size[a]).ceil().max(1.0) as i64);
+        for (a, out) in steps.iter_mut().enumerate() {
+            let k = (reach / self.size[a]).ceil().max(1.0) as i64;
+            self.axis_steps(a, c[a], k, out);
+        }
         // Cells of a large stencil whose nearest point lies beyond the reach are skipped (about
         // half of the cube for the largest particles); the 27 nearest always stay.
-        let gap = |a: usize, d: i64| (d.abs() - 1).max(0) as f64 * self.size[a];
         let reach2 = reach * reach;
-        let axis = |a: usize, d: i64| -> Option<(usize, i8)> {
-            let u = c[a] as i64 + d;
-            let na = self.n[a] as i64;
-            if self.periodic[a] {
-                let img = u.div_euclid(na);
-                (img.abs() <= 1).then(|| (u.rem_euclid(na) as usize, img as i8))
-            } else {
-                (0..na).contains(&u).then_some((u as usize, 0))
-            }
-        };
-        for dz in -k[2]..=k[2] {
-            let Some((z, iz)) = axis(2, dz) else { continue };
-            let gz = gap(2, dz).powi(2);
-            for dy in -k[1]..=k[1] {
-                let Some((y, iy)) = axis(1, dy) else { continue };
-                let gyz = gz + gap(1, dy).powi(2);
+        let [xs, ys, zs] = &*steps;
+        for sz in zs {
+            for sy in ys {
+                let gyz = sz.gap2 + sy.gap2;
                 if gyz >= reach2 {
                     continue;
                 }
-                for dx in -k[0]..=k[0] {
-                    if gyz + gap(0, dx).powi(2) >= reach2 {
+                let row = self.n[0] * (sy.cell + self.n[1] * sz.cell);
+                for sx in xs {
+                    if gyz + sx.gap2 >= reach2 {
                         continue;
                     }
-                    let Some((x, ix)) = axis(0, dx) else { continue };
-                    f(x + self.n[0] * (y + self.n[1] * z), [ix, iy, iz]);
+                    f(sx.cell + row, [sx.img, sy.img, sz.img]);
                 }
             }
         }
     }
+
+    /// The offsets -k..=k from cell coordinate `c` along axis `a` that exist: the cell, its image
+    /// (periodic axes, at most one box length away) and the squared gap between the two cells.
+    fn axis_steps(&self, a: usize, c: usize, k: i64, out: &mut Vec<AxisStep>) {
+        out.clear();
+        let na = self.n[a] as i64;
+        for d in -k..=k {
+            let u = c as i64 + d;
+            let (cell, img) = if self.periodic[a] {
+                let img = u.div_euclid(na);
+                if img.abs() > 1 {
+                    continue;
+                }
+                (u.rem_euclid(na) as usize, img as i8)
+            } else if (0..na).contains(&u) {
+                (u as usize, 0)
+            } else {
+                continue;
+            };
+            let gap = (d.abs() - 1).max(0) as f64 * self.size[a];
+            out.push(AxisStep {
+                cell,
+                img,
+                gap2: gap * gap,
+            });
+        }
+    }
+}
+
+/// One offset of a stencil along one axis (see [`CellGrid::axis_steps`]).
+struct AxisStep {
+    cell: usize,
+    img: i8,
+    gap2: f64,
 }

@@ -63,6 +63,9 @@ fn block_bounds(n: usize, row_start: &[u32], out: &mut Vec<usize>) {
     out.push(n);
 }
 
+/// Particles per task of the parked-pair gather.
+const GATHER_CHUNK: usize = 512;
+
 /// Scratch reused from step to step (resized only when the neighbour list changes size).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct ForceBuffers {
@@ -82,6 +85,10 @@ pub(crate) struct ForceBuffers {
     /// two blocks or more before k's, in pair order.
     parked_start: Vec<u32>,
     parked_pair: Vec<u32>,
+    /// The particles that have parked pairs, ascending, and where each gather chunk's particles begin
+    /// in that list: the gather visits these only (a few hundred of thousands of particles).
+    parked_rows: Vec<u32>,
+    parked_chunk: Vec<u32>,
     /// First particle of each block, then the particle count (see [`block_bounds`]).
     bounds: Vec<usize>,
     /// The neighbour-list build the constants, blocks and parked lists belong to (None: stale).
@@ -408,6 +415,17 @@ impl ForceBuffers {
                 self.parked_start.push(self.parked_pair.len() as u32);
             }
         }
+        self.parked_rows.clear();
+        self.parked_chunk.clear();
+        for k in 0..n {
+            if k % GATHER_CHUNK == 0 {
+                self.parked_chunk.push(self.parked_rows.len() as u32);
+            }
+            if self.parked_start[k] < self.parked_start[k + 1] {
+                self.parked_rows.push(k as u32);
+            }
+        }
+        self.parked_chunk.push(self.parked_rows.len() as u32);
         self.built_for = Some(list.builds);
     }
 
@@ -540,20 +558,18 @@ impl ForceBuffers {
                 }
             }
         };
-        // Per chunk, so that chunks without parked pairs (all of them in space order, but for the
-        // periodic images) are skipped at the cost of one comparison. Each particle's sum is its
-        // own: any chunking adds the same terms in the same order.
-        const CHUNK: usize = 512;
-        let n = self.force.len();
+        // Per chunk of particles, each visiting only its particles with parked pairs (in space order
+        // few have any, but for the periodic images). Each particle's sum is its own: any chunking
+        // adds the same terms in the same order.
+        const CHUNK: usize = GATHER_CHUNK;
+        let (rows, chunk) = (&self.parked_rows, &self.parked_chunk);
         let block =
             |c: usize, f: &mut [Vec3], t: &mut [Vec3], mut w: Option<&mut [Matrix3<f64>]>| {
                 let k0 = c * CHUNK;
-                if start[k0] == start[(k0 + CHUNK).min(n)] {
-                    return;
-                }
-                for k in 0..f.len() {
+                for &kk in &rows[chunk[c] as usize..chunk[c + 1] as usize] {
+                    let k = kk as usize - k0;
                     add(
-                        k0 + k,
+                        kk as usize,
                         &mut f[k],
                         &mut t[k],
                         w.as_deref_mut().map(|w| &mut w[k]),
