@@ -32,7 +32,7 @@ use crate::verification::Verification;
 /// Where the card came from.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Provenance {
-    /// "cgdem calibrate <version>".
+    /// `"cgdem calibrate <version>"`.
     pub tool: String,
     /// Fingerprint of the calibration inputs (the checkpoint's).
     pub fingerprint: String,

@@ -3,8 +3,10 @@
 //! Given the Jacobian J (m x n) and residuals r at x, the damped Gauss-Newton step h minimises
 //!   |J h + r|^2 + lambda |D h|^2,
 //! which is the linear least-squares problem of the augmented system
-//!   [ J            ]     [ -r ]
+//! ```text
+//!   [ J              ]     [ -r ]
 //!   [ sqrt(lambda) D ] h = [  0 ].
+//! ```
 //! It is solved with faer's Householder QR of the (m + n) x n matrix: never the normal equations
 //! (J^T J + lambda D^T D) h = -J^T r, whose condition number is the square of J's. With lambda > 0 the
 //! augmented matrix has full column rank even when J does not (here: 5 unknowns, 4 residuals), and

@@ -26,7 +26,7 @@ pub struct CompareArgs {
     /// MPI ranks of each MD run (1: the runs of the comparison's cost table are single-process).
     #[arg(long, default_value_t = 1)]
     pub np: u32,
-    /// MD job cache [default: <repo>/runs/md-cache].
+    /// MD job cache (default: runs/md-cache in the repository).
     #[arg(long)]
     pub md_cache: Option<PathBuf>,
 }

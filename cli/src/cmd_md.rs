@@ -20,7 +20,7 @@ pub struct Launch {
     /// MPI ranks (runs the worker under the venv's mpirun when > 1).
     #[arg(long, default_value_t = 1)]
     np: u32,
-    /// Job cache directory [default: <repo>/runs/md-cache].
+    /// Job cache directory (default: runs/md-cache in the repository).
     #[arg(long)]
     cache: Option<PathBuf>,
     /// Re-run even when an identical request is cached.

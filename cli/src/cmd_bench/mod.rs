@@ -82,7 +82,7 @@ pub struct BenchArgs {
     /// Amorphous: time this saved sample (`cgdem sample`) instead of the recipe's cached one.
     #[arg(long)]
     sample: Option<PathBuf>,
-    /// Amorphous: where the relaxed sample is cached [default: <repo>/runs/bench-cache].
+    /// Amorphous: where the relaxed sample is cached (default: runs/bench-cache in the repository).
     #[arg(long)]
     cache: Option<PathBuf>,
 }

@@ -6,8 +6,8 @@
 //!   plastic-wear model of paper 001; pure functions used by its own small contact loop
 //!   ([`crate::scenario::plastic`]), not by the cohesive force phase.
 //!
-//! The phase driver ([`compute`]) walks fixed particle blocks in parallel. Inside a block, consecutive
-//! pairs are loaded into batches of [`cohesive::LANES`] (structure of arrays) that the kernel evaluates
+//! The phase driver (`compute`) walks fixed particle blocks in parallel. Inside a block, consecutive
+//! pairs are loaded into batches of `LANES` (structure of arrays) that the kernel evaluates
 //! lane-wise, which the compiler turns into vector instructions; the per-pair constants of eqs (7)-(13)
 //! are computed once per neighbour-list build. Forces are then summed per particle in pair order, so
 //! results are bit-identical for any number of threads.

@@ -14,7 +14,7 @@ use crate::Vec3;
 pub enum Shape {
     /// Points x with (x - point) . normal >= 0 (the normal points into the region).
     HalfSpace { point: Vec3, normal: Vec3 },
-    /// Points with lo <= x[axis] < hi.
+    /// Points with `lo <= x[axis] < hi`.
     Slab { axis: usize, lo: f64, hi: f64 },
     /// Points within `radius` of the line through `point` along `direction` (infinite cylinder).
     Cylinder {

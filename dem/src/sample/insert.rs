@@ -3,7 +3,7 @@
 //! volume fraction (0.75 in the paper).
 //!
 //! At 0.75 the particles necessarily overlap (non-overlapping random insertion jams near 0.38): removing
-//! the overlaps is the job of the first relaxation phase ([`super::relax`]). Insertion stops before the
+//! the overlaps is the job of the first relaxation phase ([`relax`](mod@super::relax)). Insertion stops before the
 //! particle that would exceed the target, so the fraction reached is the largest one not above it.
 //! Each particle draws its diameter, then its position, from one ChaCha8 stream seeded by `seed`.
 

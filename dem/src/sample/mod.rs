@@ -2,7 +2,7 @@
 //! - [`hcp`]: HCP lattices of equal spheres for the crystalline patch tests;
 //! - [`sizes`]: seeded log-normal size distributions (paper 000, paper 004 variant);
 //! - [`insert`]: random insertion into a periodic box up to a volume fraction;
-//! - [`relax`]: the two-phase relaxation of section 3.2 that turns an insertion into an amorphous solid;
+//! - [`relax`](mod@relax): the two-phase relaxation of section 3.2 that turns an insertion into an amorphous solid;
 //! - [`carve`]: keep or remove particles by shape and assign groups (walls, junctions);
 //! - [`stats`]: volume fraction and coordination number;
 //! - [`spec`]: sample recipes ([`SampleSpec`]) as scenarios and calibrations ask for them;

@@ -84,7 +84,7 @@ thermo 0
 }
 
 /// Replaces whatever the instance holds by a fresh cell holding the glass `g` (`clear`, then
-/// [`cell`] in `g`'s box, then `g`'s exact positions, zero velocities).
+/// `cell` in `g`'s box, then `g`'s exact positions, zero velocities).
 ///
 /// Every measurement stage starts here, in an uninterrupted run as in one resumed from stage
 /// files: the stages are then independent of what ran before them in this process (LAMMPS's

@@ -2,13 +2,13 @@
 //! solid) gets two rigid walls, the particles within `wall_thickness` of the bottom and top faces normal
 //! to y; x and z stay periodic, y becomes open.
 //!
-//! - [`elastic`]: confined uniaxial compression (Fig. 4a): the top wall pressed with traction 0.01 E,
+//! - [`elastic`](mod@elastic): confined uniaxial compression (Fig. 4a): the top wall pressed with traction 0.01 E,
 //!   dt = 0.1 dt_c, global damping 0.2 c_c; at rest, C11 = d sigma_yy / d eps_yy and
 //!   C12 = d sigma_xx / d eps_yy give nu = C12 / (C11 + C12) and E = C11 (1 + nu)(1 - 2 nu) / (1 - nu).
-//! - [`strength`]: the top wall driven at strain rate 1e-5 / dt along y (tension) or x (shear), damping
+//! - [`strength`](mod@strength): the top wall driven at strain rate 1e-5 / dt along y (tension) or x (shear), damping
 //!   0.01 c_c; the strength is the peak virial stress of the deformable part (Fig. 4b-c). The tensile
 //!   run continues to complete separation and gives the fracture energy.
-//! - [`compaction`]: not in the paper: the top wall pressed with 0.01 E and dragged along x, to see
+//! - [`compaction`](mod@compaction): not in the paper: the top wall pressed with 0.01 E and dragged along x, to see
 //!   whether the packing holds its volume when it flows (the check the junction needs of a card).
 //!
 //! Conventions shared by the tests:

@@ -7,7 +7,7 @@
 //! along the motion (F_x,i > a_i mu_a H, eq 8), and is then moved down, with the projectile (eqs 3-4)
 //! or by eq (5) ([`flow`]); the worn volume is eq (6) and the energy spent, eqs (21)-(22) ([`ledger`]).
 //!
-//! The model runs its own small contact loop ([`rig`]), not the cohesive force phase: one body meets
+//! The model runs its own small contact loop (`rig`), not the cohesive force phase: one body meets
 //! at most a few hundred spheres, found through the grid (DESIGN.md section 7). It shares the
 //! engine's units ([`crate::units::UnitSystem::MILLI`] inside, SI at the edges), its integrator
 //! (symplectic Euler, paper 000 eq 1), its ledger conventions, progress files and jobs.

@@ -141,7 +141,7 @@ impl Projectile {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum PlasticTimeStep {
-    /// A fraction of [`Params::stable_step`]'s estimate.
+    /// A fraction of `Params::stable_step`'s estimate.
     FractionOfStable(f64),
     /// Seconds; refused above the stable step.
     Seconds(f64),

@@ -6,7 +6,7 @@
 //! - a relaxed amorphous box L x L x B (x sliding, y normal, z width), B = 3 d0, d0 = 0.01 L, sizes of
 //!   the paper-004 log-normal (mode d0, std 0.1 d0, truncated to [0.75, 1.25] d0), relaxed as in
 //!   paper 000 section 3.2;
-//! - two halves with a non-matching interface (see [`geometry`]); rigid bodies of the particles within
+//! - two halves with a non-matching interface (see `geometry`); rigid bodies of the particles within
 //!   1.5 d0 of the top and bottom faces; the bottom one fixed, the top one under the normal pressure
 //!   p_N (0.01 E) and dragged along x at v = 0.1 sqrt(E / rho); periodic along x and z;
 //! - the normal-only law (paper 004 eqs 2-10: A_eff = 2 sqrt(2) r_eff^2, nu = 1/4, eta = 0.95), the

@@ -152,7 +152,7 @@ pub struct SlidingResult {
     pub v0: f64,
     pub area: f64,
     pub rho0: f64,
-    /// Shift and lift of the top half (see [`super::geometry`]).
+    /// Shift and lift of the top half (see `geometry`).
     pub shift: f64,
     pub lift: f64,
     /// d* (eq 13) and d_m = d* / 8 (eq 12) over d0.

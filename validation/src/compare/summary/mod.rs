@@ -1,7 +1,7 @@
 //! What the comparison concludes from the runs, as pure functions of their results (so tests can
 //! feed synthetic probes): the brackets in sigma, whether they overlap and how far their centres
 //! lie apart, the MD/DEM cost ratio for the same junction, both materials' properties side by side,
-//! and the output files (written by [`outputs`]).
+//! and the output files (written by `outputs`).
 //!
 //! Brackets are (lower, upper] as [`wear::dstar::Bracket`] gives them: two overlap when each lower
 //! bound lies below the other's upper bound. A centre is (lower + upper) / 2.
