@@ -86,7 +86,7 @@ pub(crate) struct ForceBuffers {
     parked_start: Vec<u32>,
     parked_pair: Vec<u32>,
     /// The particles that have parked pairs, ascending, and where each gather chunk's particles begin
-    /// in that list: the gather visits these only (a few hundred of thousands of particles).
+    /// in that list: the gather visits these only (558 of the amorphous bench's 6 317 particles).
     parked_rows: Vec<u32>,
     parked_chunk: Vec<u32>,
     /// First particle of each block, then the particle count (see [`block_bounds`]).
