@@ -75,6 +75,27 @@ pub fn run(args: SlidingArgs, threads: usize) -> Result<()> {
             s.run_seconds,
             s.relax_seconds
         );
+        if let Some(at) = s.body_reached_at_l {
+            println!(
+                "the TBL lay against a rigid body from {at:.2} L of sliding on ({} of {} steady windows): \
+                 paper 004 drops that phase as unphysical",
+                s.steady_windows_at_body, s.steady_windows
+            );
+        }
+        match &s.interior {
+            Some(i) => println!(
+                "interior phase (TBL inside the material, {} windows): p_T = {:.4e} E, p_T / tau_m = {:.2}{}, \
+                 rho_TBL = {:.3} rho_0, h_TBL = {:.3} H",
+                i.windows,
+                i.p_t,
+                i.p_t_over_tau_m,
+                i.p_t_over_tau_flow
+                    .map_or(String::new(), |r| format!(", p_T / tau_flow = {r:.2}")),
+                i.rho_tbl,
+                i.h_tbl
+            ),
+            None => println!("interior phase: no window after the start-up had its TBL inside the material"),
+        }
         println!("wrote {}", args.out.join("summary.json").display());
         return Ok(());
     }

@@ -1,13 +1,13 @@
 //! Groups and rigid bodies (walls).
 //!
 //! Every particle belongs to one group. Free groups follow their pair forces; a rigid group moves as one
-//! body in translation only (no rotation, as the papers' walls), each axis either at a prescribed velocity,
-//! or driven by its pair forces plus a prescribed external force, or plus a prescribed traction times the
+//! body in translation only (no rotation, as the papers' walls), each axis either at a prescribed velocity
+//! (constant, or ramped towards a target at a bounded acceleration), or driven by its pair forces plus a prescribed external force, or plus a prescribed traction times the
 //! box cross-section (a pressure-controlled wall). A frozen wall is a rigid group at zero velocity.
 //!
 //! The work the outside world does on the walls is booked in the energy ledger: for a velocity-controlled
-//! axis the constraint force is minus the pair force on the group, for a force-controlled one it is the
-//! prescribed force.
+//! axis (constant or ramped) the constraint force is minus the pair force on the group, for a
+//! force-controlled one it is the prescribed force.
 
 use serde::{Deserialize, Serialize};
 
@@ -22,6 +22,10 @@ use crate::Vec3;
 pub enum AxisControl {
     /// Prescribed velocity along the axis.
     Velocity(f64),
+    /// Prescribed velocity that moves from the body's current one towards `to` by at most
+    /// `acceleration` dt per step, then stays at `to`: a start without the stress wave of a velocity
+    /// step (rho c v on the face), which can exceed a material's strength.
+    Ramp { to: f64, acceleration: f64 },
     /// Moves under its pair forces plus this external force.
     Force(f64),
     /// Moves under its pair forces plus this traction times the box cross-section normal to the axis
@@ -110,6 +114,16 @@ impl RigidIndex {
                         AxisControl::Velocity(v)
                         | AxisControl::Force(v)
                         | AxisControl::Traction(v) => *v,
+                        AxisControl::Ramp { to, acceleration } => {
+                            if acceleration.is_nan() || *acceleration <= 0.0 {
+                                return Err(DemError::InvalidConfig(format!(
+                                    "group '{}' axis {a}: ramp acceleration {acceleration} must be \
+                                     positive",
+                                    g.name
+                                )));
+                            }
+                            to + acceleration
+                        }
                     };
                     if !v.is_finite() {
                         return Err(DemError::InvalidConfig(format!(
@@ -198,6 +212,14 @@ impl RigidIndex {
                     AxisControl::Velocity(v) => {
                         motion.velocity[a] = v;
                         -fsum[a]
+                    }
+                    AxisControl::Ramp { to, acceleration } => {
+                        let dv =
+                            (to - motion.velocity[a]).clamp(-acceleration * dt, acceleration * dt);
+                        motion.velocity[a] += dv;
+                        // What holds the body on its ramp: minus the pair force, plus what changes
+                        // its momentum.
+                        mass * dv / dt - fsum[a]
                     }
                     AxisControl::Force(f) => {
                         motion.velocity[a] += (fsum[a] + f) / mass * dt;

@@ -57,6 +57,78 @@ fn force_controlled_wall_accelerates_as_one_body() {
 }
 
 #[test]
+fn a_ramped_wall_reaches_its_velocity_at_its_acceleration_and_books_the_work() {
+    // Two spheres far apart in one rigid group (no pair force), ramped from rest along x to 0.5 in
+    // 100 steps and along y to -0.2 in 50: v = a n dt each step until the target, then the target.
+    let mut p = pair_of(1.0, 10.0);
+    p.group = vec![1, 1];
+    let cfg = RunConfig {
+        track_energy: true,
+        ..RunConfig::default()
+    };
+    let build = |axes: [AxisControl; 3]| {
+        let mut p = p.clone();
+        p.group = vec![1, 1];
+        let motion = RigidMotion {
+            axes,
+            velocity: Vec3::zeros(),
+        };
+        Simulation::new(
+            p,
+            open_box(1e6),
+            PairModel::cohesive(Material::table4(0.1)),
+            vec![Group::free("all"), Group::rigid("wall", motion)],
+            cfg,
+            Parallelism::Sequential,
+        )
+    };
+    let dt = build([AxisControl::Velocity(0.0); 3]).unwrap().dt();
+    let (ax, ay) = (0.5 / (100.0 * dt), 0.2 / (50.0 * dt));
+    let mut s = build([
+        AxisControl::Ramp {
+            to: 0.5,
+            acceleration: ax,
+        },
+        AxisControl::Ramp {
+            to: -0.2,
+            acceleration: ay,
+        },
+        AxisControl::Velocity(0.0),
+    ])
+    .unwrap();
+    s.run(10).unwrap();
+    let v = s.particles.vel[1];
+    assert!((v.x - 0.05).abs() < 1e-12, "v_x {} after 10 steps", v.x);
+    assert!((v.y + 0.04).abs() < 1e-12, "v_y {} after 10 steps", v.y);
+    s.run(100).unwrap();
+    let v = s.particles.vel[1];
+    assert_eq!((v.x, v.y), (0.5, -0.2), "the ramps stop at their targets");
+    assert_eq!(s.particles.vel[0], v, "both members move together");
+    // No pair force: the outside work is the body's kinetic energy M (v_x^2 + v_y^2) / 2, up to the
+    // first-order booking F v_{n+1} dt (an excess of M a v_target dt / 2 per axis).
+    let m: f64 = s.particles.mass.iter().sum();
+    let ke = 0.5 * m * (v.x * v.x + v.y * v.y);
+    let w = s.energy().wall_work;
+    let excess = 0.5 * m * (ax * 0.5 + ay * 0.2) * dt;
+    assert!(
+        w >= ke && w - ke <= excess * (1.0 + 1e-9),
+        "work {w} against {ke} + {excess}"
+    );
+    // A ramp needs a positive acceleration: a clear error, not a wall that never moves.
+    let Err(e) = build([
+        AxisControl::Ramp {
+            to: 0.5,
+            acceleration: 0.0,
+        },
+        AxisControl::Velocity(0.0),
+        AxisControl::Velocity(0.0),
+    ]) else {
+        panic!("a zero acceleration is refused");
+    };
+    assert!(e.to_string().contains("acceleration"), "{e}");
+}
+
+#[test]
 fn pressure_wall_on_a_column_reaches_its_traction() {
     // A column of spheres between a frozen floor and a traction-controlled lid settles where the
     // virial stress of the free spheres balances the traction.

@@ -261,7 +261,25 @@ fn the_sliding_section_reports_the_trends_of_fig_6_from_its_runs() {
                 .and_then(|v| v.parse().ok())
                 .unwrap_or_else(|| panic!("no agitation in {:?}", c.note));
             assert!(a > 0.0 && a < 10.0, "{}", c.note);
+            // A run whose steady TBL lies against a body says so, with where it got there.
+            assert_eq!(
+                c.quantity.contains("boundary_reached"),
+                c.note.contains("lay against a rigid body from"),
+                "{c:?}"
+            );
         }
+    }
+    // The interior-phase rows (paper 004's first stationary phase, TBL off both bodies) stand on at
+    // least three windows each, and come in pairs (tau_m and tau_flow) per run that has them.
+    let interior: Vec<_> = section3
+        .clone()
+        .filter(|c| c.quantity.contains("interior phase"))
+        .collect();
+    assert_eq!(interior.len() % 2, 0, "{interior:?}");
+    for c in &interior {
+        let windows: usize = c.note.split(' ').next().unwrap().parse().unwrap();
+        assert!(windows >= 3, "{c:?}");
+        assert!(c.measured.is_finite() && c.measured > 0.0, "{c:?}");
     }
     let tau = |name: &str| -> Vec<f64> {
         section3
@@ -280,6 +298,7 @@ fn the_sliding_section_reports_the_trends_of_fig_6_from_its_runs() {
     }
     let html = std::fs::read_to_string(&w.html).unwrap();
     assert_eq!(html.matches("src=\"data:image/png;base64,").count(), 3);
+    assert!(html.contains("TBL at a body from (L)") && html.contains("interior windows"));
     let again = run(&options(&out, &only), &Silent).unwrap();
     assert_eq!(again.cases_run, 0);
     std::fs::remove_dir_all(&out).unwrap();

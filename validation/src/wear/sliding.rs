@@ -7,7 +7,8 @@
 //!   gamma, d*), the cost and the settings;
 //! - `profiles.csv`: the steady profiles over y / H (velocity over v0, density over rho_0 raw and
 //!   Savitzky-Golay filtered, the fitted Gaussian, agitation over v0);
-//! - `windows.csv`: h_TBL / H and rho_TBL / rho_0 per window against the slide (Fig. 5);
+//! - `windows.csv`: h_TBL / H, rho_TBL / rho_0 and the TBL's boundaries over H per window against
+//!   the slide (Fig. 5); `summary.json`'s `body_reached_at_l` and `interior` come from them;
 //! - `force.csv`: the horizontal and normal pair forces on the two bodies and p_T;
 //! - `sliding.dump`: LAMMPS-style frames (OVITO) with `half` and `height0` columns;
 //! - `profiles.png`, `h_tbl.png`, `snapshot.png` (see [`crate::figures::sliding`]).
@@ -95,6 +96,17 @@ impl SlidingFile {
     }
 }
 
+/// The interior phase of a run, in the summary's units.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct InteriorSummary {
+    pub windows: usize,
+    pub p_t: f64,
+    pub rho_tbl: f64,
+    pub h_tbl: f64,
+    pub p_t_over_tau_m: f64,
+    pub p_t_over_tau_flow: Option<f64>,
+}
+
 /// What `summary.json` holds (and a grid's row).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SlidingSummary {
@@ -106,6 +118,17 @@ pub struct SlidingSummary {
     pub p_t: f64,
     pub p_n: f64,
     pub regime: Regime,
+    /// Steady windows whose TBL lies against a rigid body, and the slide over L at which the run's
+    /// TBL first did (none: it never did). Paper 004 drops that phase as unphysical.
+    #[serde(default)]
+    pub steady_windows_at_body: usize,
+    #[serde(default)]
+    pub body_reached_at_l: Option<f64>,
+    /// The interior phase (`dem::scenario::sliding` docs): windows after the start-up whose TBL lies
+    /// inside the material, paper 004's "first stationary phase"; their count, mean p_T (E), mean
+    /// rho_TBL / rho_0 and h_TBL / H, and p_T over tau_m and tau_flow (none without such windows).
+    #[serde(default)]
+    pub interior: Option<InteriorSummary>,
     /// tau_m over E, how it was found (measured or given), tau_m / sigma_m, the measured tensile
     /// strength sigma_t over E (none when tau_m was given), p_T / tau_m (about 1 in a shear band,
     /// paper 004 section 3) and p_T over tau_m rho_TBL / rho_0 (about 1 in the mixed regime).
@@ -393,6 +416,16 @@ pub fn run_sliding_with(
         p_t: r.p_t,
         p_n: r.p_n,
         regime: r.regime,
+        steady_windows_at_body: r.steady_windows_at_body,
+        body_reached_at_l: r.body_reached_at.map(|x| x / cfg.length),
+        interior: r.interior.map(|i| InteriorSummary {
+            windows: i.windows,
+            p_t: i.p_t / cfg.young_modulus,
+            rho_tbl: i.rho_tbl,
+            h_tbl: i.h_tbl,
+            p_t_over_tau_m: i.p_t / r.tau_m,
+            p_t_over_tau_flow: tau.tau_flow.map(|t| i.p_t / t),
+        }),
         tau_m: r.tau_m / cfg.young_modulus,
         tau_m_how: tau.how.clone(),
         tau_m_over_sigma_m: r.tau_m / cfg.material.strength,
@@ -466,14 +499,14 @@ pub fn run_grid(
         vec![None; runs.len()]
     };
     let mut csv = String::from(
-        "p_n,strength,d_star,rho_tbl,h_tbl,p_t,tau_m,p_t_over_tau_m,p_t_over_tau_rho,tau_flow,p_t_over_tau_flow,agitation,regime,particles,run_seconds,key\n",
+        "p_n,strength,d_star,rho_tbl,h_tbl,p_t,tau_m,p_t_over_tau_m,p_t_over_tau_rho,tau_flow,p_t_over_tau_flow,agitation,regime,body_reached_at_l,interior_windows,interior_p_t_over_tau_m,interior_p_t_over_tau_flow,particles,run_seconds,key\n",
     );
     for (cfg, r) in runs.iter().zip(&results) {
         let key = JobCache::key(cfg)?;
         let line = match r {
             Some(s) => writeln!(
                 csv,
-                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
                 s.p_n,
                 s.strength,
                 s.d_star,
@@ -487,13 +520,17 @@ pub fn run_grid(
                 opt(s.p_t_over_tau_flow),
                 opt(s.agitation),
                 s.regime.label(),
+                opt(s.body_reached_at_l),
+                s.interior.as_ref().map_or(0, |i| i.windows),
+                opt(s.interior.as_ref().map(|i| i.p_t_over_tau_m)),
+                opt(s.interior.as_ref().and_then(|i| i.p_t_over_tau_flow)),
                 s.particles,
                 s.run_seconds,
                 key.0
             ),
             None => writeln!(
                 csv,
-                "{},{},{},,,,,,,,,,pending,,,{}",
+                "{},{},{},,,,,,,,,,pending,,,,,,,{}",
                 cfg.pressure,
                 cfg.material.strength,
                 cfg.d_star()?,
@@ -551,17 +588,19 @@ fn write_outputs(
         .expect("writing to a String");
     }
     write_atomic(&out.join("profiles.csv"), csv.as_bytes())?;
-    let mut csv = String::from("step,time,slide_over_l,height,h_tbl,rho_tbl\n");
+    let mut csv = String::from("step,time,slide_over_l,height,h_tbl,rho_tbl,tbl_lo,tbl_hi\n");
     for w in &r.windows {
         writeln!(
             csv,
-            "{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{}",
             w.step,
             w.time,
             w.slide / cfg.length,
             w.height,
             opt(w.h_tbl),
-            opt(w.rho_tbl)
+            opt(w.rho_tbl),
+            opt(w.bounds.map(|b| b.lo)),
+            opt(w.bounds.map(|b| b.hi))
         )
         .expect("writing to a String");
     }

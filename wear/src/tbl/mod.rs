@@ -23,5 +23,6 @@ pub use fit::{fit_gaussian_dip, GaussFit};
 pub use layer::{layer_agitation, measure_layer, LayerMeasures, LayerParams};
 pub use profile::{sphere_slab_volume, Bins, Profile, ProfileParticles, ProfileSums};
 pub use regime::{
-    classify_regime, erratic_spread, shear_traction, steady_mean, Regime, RegimeData, RegimeParams,
+    classify_regime, erratic_spread, shear_traction, steady_mean, touches_body, Regime, RegimeData,
+    RegimeParams,
 };

@@ -4,8 +4,9 @@
 //! - [`shear_traction`]: p_T = (|F_x,top| + |F_x,bottom|) / (2 A), the mean of the horizontal forces on
 //!   the two bodies over the interface area (the paper takes either body; in steady state the two
 //!   agree, and their mean halves the inertial noise of the layer between them);
-//! - [`classify_regime`]: mixed (wear particles, a gap), shear band (full contact) or growing large
-//!   particles (rolling bodies that lubricate).
+//! - [`classify_regime`]: mixed (wear particles, a gap), shear band (full contact), growing large
+//!   particles (rolling bodies that lubricate), or a TBL that has reached a rigid body;
+//! - [`touches_body`]: whether a TBL's boundaries lie against a rigid body's face.
 //!
 //! Decision (the label, which the paper gives by eye): the paper ties the regimes to measures that
 //! this crate has. Large growing particles show as "erratic changes of TBL thickness" (Fig. 5) and a
@@ -14,11 +15,21 @@
 //! this order: p_T below `lubricated` x tau_m rho_TBL / rho_0, or a relative spread of h_TBL about
 //! its moving average above `erratic`, is growing particles; rho_TBL / rho_0 at or above
 //! `full_contact` is a shear band; anything else is mixed. The thresholds are settings with defaults.
+//!
+//! Decision (the fourth case, checked first): paper 004 (Fig. 5 caption and section 3) names a case
+//! it drops from its analysis as unphysical: "the TBL reaches a boundary of the system", after which
+//! the sliding happens at a rigid body's face. A steady TBL one of whose velocity boundaries lies
+//! within `boundary_reach` particle diameters of a body's inner face (the scenario passes the faces
+//! of its bodies' particle layers plus one diameter, where the density fit starts) has reached it:
+//! no intact particle layer is left between the sheared band and the rigid body, so p_T there is
+//! the strength of the body's interface, not of the layer. It is checked before the other labels
+//! because its measures are not those of any of the paper's three regimes.
 
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, WearError};
 use crate::tbl::filter::moving_average;
+use crate::tbl::TblBounds;
 
 /// The regimes of Fig. 3.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -30,6 +41,9 @@ pub enum Regime {
     ShearBand,
     /// (c) large wear particles growing to the size of the system, lubricated sliding.
     GrowingParticles,
+    /// The TBL against a rigid body: the sliding happens at the body's face (paper 004 drops this
+    /// phase as unphysical).
+    BoundaryReached,
 }
 
 impl Regime {
@@ -39,6 +53,7 @@ impl Regime {
             Regime::Mixed => "mixed",
             Regime::ShearBand => "shear_band",
             Regime::GrowingParticles => "growing_particles",
+            Regime::BoundaryReached => "boundary_reached",
         }
     }
 }
@@ -58,6 +73,9 @@ pub struct RegimeParams {
     pub erratic: f64,
     /// Samples of the moving average of h_TBL (odd).
     pub window: usize,
+    /// Distance, in particle diameters, from a body's inner face within which a TBL boundary has
+    /// reached the body: half a particle, less than one intact layer between band and body.
+    pub boundary_reach: f64,
 }
 
 impl Default for RegimeParams {
@@ -67,6 +85,7 @@ impl Default for RegimeParams {
             lubricated: 0.2,
             erratic: 0.5,
             window: 9,
+            boundary_reach: 0.5,
         }
     }
 }
@@ -81,6 +100,16 @@ pub struct RegimeData {
     pub tau_m: f64,
     /// The h_TBL / H series of the steady part.
     pub h_tbl: Vec<f64>,
+    /// The steady TBL's boundaries over H (`None`: nothing slid inside the system).
+    pub bounds: Option<TblBounds>,
+    /// The bodies' inner faces over H (bottom, top) and the particle diameter d0 / H.
+    pub faces: (f64, f64),
+    pub d0: f64,
+}
+
+/// Whether `bounds` (over H) lies within `reach` (over H) of the bodies' inner `faces` (bottom, top).
+pub fn touches_body(bounds: &TblBounds, faces: (f64, f64), reach: f64) -> bool {
+    bounds.lo <= faces.0 + reach || bounds.hi >= faces.1 - reach
 }
 
 /// Mean of the samples of `x` at times `t >= from`; an error when none is.
@@ -133,6 +162,18 @@ pub fn classify_regime(data: &RegimeData, params: &RegimeParams) -> Result<Regim
             data.rho_tbl, data.p_t, data.tau_m
         )));
     }
+    if !(data.faces.0 < data.faces.1 && data.d0 > 0.0 && params.boundary_reach >= 0.0) {
+        return Err(WearError::Setting(format!(
+            "a regime needs body faces in order, a positive d0 and a reach >= 0 (faces {:?}, d0 {}, \
+             reach {})",
+            data.faces, data.d0, params.boundary_reach
+        )));
+    }
+    if let Some(b) = &data.bounds {
+        if touches_body(b, data.faces, params.boundary_reach * data.d0) {
+            return Ok(Regime::BoundaryReached);
+        }
+    }
     let contact = data.tau_m * data.rho_tbl.max(0.0);
     if data.p_t < params.lubricated * contact
         || erratic_spread(&data.h_tbl, params.window) > params.erratic
@@ -150,12 +191,16 @@ pub fn classify_regime(data: &RegimeData, params: &RegimeParams) -> Result<Regim
 mod tests {
     use super::*;
 
+    /// A layer in the middle of a box whose bodies' faces are at 0.1 and 0.9 H, d0 = 0.05 H.
     fn data(rho: f64, p_t: f64, h: Vec<f64>) -> RegimeData {
         RegimeData {
             rho_tbl: rho,
             p_t,
             tau_m: 0.022,
             h_tbl: h,
+            bounds: Some(TblBounds { lo: 0.4, hi: 0.6 }),
+            faces: (0.1, 0.9),
+            d0: 0.05,
         }
     }
 
@@ -193,5 +238,41 @@ mod tests {
         assert_eq!(r, Regime::GrowingParticles);
         assert!(classify_regime(&data(f64::NAN, 0.0, steady), &p).is_err());
         assert_eq!(Regime::ShearBand.label(), "shear_band");
+    }
+
+    #[test]
+    fn a_layer_against_a_body_has_reached_the_boundary() {
+        let p = RegimeParams::default();
+        let steady: Vec<f64> = (0..40).map(|i| 0.1 + 0.01 * (i as f64).sin()).collect();
+        // Half a diameter (0.025 H) from either face is the reach.
+        for (lo, hi, reached) in [
+            (0.80, 0.89, true),  // against the top body (the quick runs' layers)
+            (0.80, 0.876, true), // just past the reach (0.875)
+            (0.80, 0.87, false), // just inside
+            (0.12, 0.30, true),  // against the bottom body
+            (0.13, 0.30, false),
+            (0.05, 0.95, true), // the whole box: both faces
+        ] {
+            let mut d = data(0.99, 0.022, steady.clone());
+            d.bounds = Some(TblBounds { lo, hi });
+            let r = classify_regime(&d, &p).unwrap();
+            assert_eq!(r == Regime::BoundaryReached, reached, "{lo} {hi}: {r:?}");
+            assert_eq!(
+                touches_body(&TblBounds { lo, hi }, (0.1, 0.9), 0.025),
+                reached
+            );
+        }
+        // Nothing slid inside the system: no boundaries, the density decides.
+        let mut d = data(0.99, 0.022, steady.clone());
+        d.bounds = None;
+        assert_eq!(classify_regime(&d, &p).unwrap(), Regime::ShearBand);
+        // Faces out of order, or no particle size: an error, not a label.
+        let mut d = data(0.99, 0.022, steady);
+        d.faces = (0.9, 0.1);
+        assert!(classify_regime(&d, &p).is_err());
+        d.faces = (0.1, 0.9);
+        d.d0 = 0.0;
+        assert!(classify_regime(&d, &p).is_err());
+        assert_eq!(Regime::BoundaryReached.label(), "boundary_reached");
     }
 }

@@ -25,6 +25,14 @@
 //! over the steady part (the windows after `steady_from` of the run) the averaged profiles, rho_TBL
 //! from the Gaussian fit, the mean h_TBL / H, p_T from the bodies' horizontal forces, and the regime.
 //!
+//! Decision (the interior phase): paper 004 measures "the first stationary phase" and drops the
+//! parts after the TBL "reaches the system's boundary" (section 3, Fig. 5). The steady part above is
+//! kept as the run's headline measure, and beside it the run measures its interior phase: the
+//! windows after the `startup` fraction of the run whose TBL lies inside the material
+//! ([`wear::tbl::touches_body`] false), with their mean p_T (force samples inside those windows),
+//! mean rho_TBL (each window's fit) and mean h_TBL. A TBL that wanders back off a body adds its
+//! windows again: what counts is where the sheared band is, not when.
+//!
 //! The material's shear strength tau_m, which p_T is compared with (paper 004 section 3), is measured
 //! on the run's own relaxed box with the patch-test rig ([`measure_strength`], module `strength`).
 
@@ -40,7 +48,9 @@ use crate::material::{ForceLaw, Material, PairModel};
 use crate::sample::{RelaxConfig, SampleSpec};
 
 pub use geometry::{build, Geometry, BODY_BOTTOM_HALF, BODY_TOP_HALF};
-pub use run::{run, run_resumable, SlidingResult, WindowRecord, HEIGHT_BANDS};
+pub use run::{
+    interior_phase, run, run_resumable, InteriorPhase, SlidingResult, WindowRecord, HEIGHT_BANDS,
+};
 pub use strength::{
     flow_stress, measure_strength, FlowStress, MaterialStrength, MeasuredPeak, StrengthTests,
     MIN_FLOW_WINDOW,
@@ -131,6 +141,14 @@ pub struct SlidingConfig {
     /// Fraction of the run after which it is taken as steady; default 0.5 (Fig. 5: the start-up peak
     /// lasts a few L of the 50 L; later windows are safely past it).
     pub steady_from: f64,
+    /// Fraction of the run taken as start-up, left out of the interior phase and of where the TBL
+    /// first reached a body; default 0.1 (Fig. 5's start-up peak of uniform shear spans the whole
+    /// height, both bodies included: the first window or two of a quick run).
+    pub startup: f64,
+    /// The top body's start: 0 puts it at v0 on the first step (the paper's words, "dragged ... at a
+    /// fixed velocity"); f > 0 ramps it up at the acceleration a = f tau_m / (rho L), which needs a
+    /// shear stress rho L a = f tau_m to carry the sample along. Default 0 (see the decision above).
+    pub start_ramp_over_tau_m: f64,
     /// Shear strength tau_m / sigma_m of the material, when given; default none: tau_m is measured on
     /// the run's own relaxed box with the patch-test rig ([`measure_strength`]; paper 004 gives
     /// 0.22 without its method).
@@ -169,6 +187,8 @@ impl Default for SlidingConfig {
             force_samples: 1000,
             dump_frames: 50,
             steady_from: 0.5,
+            startup: 0.1,
+            start_ramp_over_tau_m: 0.0,
             shear_strength_over_strength: None,
             strength_tests: StrengthTests::default(),
             layer: LayerParams::default(),
@@ -341,6 +361,18 @@ impl SlidingConfig {
                 self.steady_from
             ));
         }
+        if !(self.start_ramp_over_tau_m >= 0.0 && self.start_ramp_over_tau_m.is_finite()) {
+            return bad(format!(
+                "start_ramp_over_tau_m = {} must be 0 (a velocity step) or positive",
+                self.start_ramp_over_tau_m
+            ));
+        }
+        if !(self.startup >= 0.0 && self.startup < 1.0) {
+            return bad(format!(
+                "startup = {} (a fraction of the run) must lie in [0, 1)",
+                self.startup
+            ));
+        }
         if self.force_samples < 1 {
             return bad("force_samples must be at least 1".into());
         }
@@ -439,6 +471,9 @@ mod tests {
         })
         .contains("L / d0"));
         assert!(with(&|c| c.material.surface_energy = Some(1e-4)).contains("exactly one"));
+        assert!(with(&|c| c.startup = 1.0).contains("startup"));
+        assert!(with(&|c| c.start_ramp_over_tau_m = -0.5).contains("start_ramp_over_tau_m"));
+        assert!(with(&|c| c.start_ramp_over_tau_m = f64::NAN).contains("start_ramp_over_tau_m"));
         let mut both_none = SlidingConfig::default();
         both_none.material.d_star = None;
         assert!(both_none.validate().is_err());

@@ -5,8 +5,9 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 use wear::tbl::{
-    classify_regime, measure_layer, shear_traction, tbl_bounds, Bins, LayerMeasures, LayerParams,
-    Profile, ProfileParticles, ProfileSums, Regime, RegimeData,
+    classify_regime, measure_layer, shear_traction, tbl_bounds, touches_body, Bins, LayerMeasures,
+    LayerParams, Profile, ProfileParticles, ProfileSums, Regime, RegimeData, RegimeParams,
+    TblBounds,
 };
 
 use super::{build, SlidingConfig};
@@ -18,6 +19,7 @@ use crate::sample::Sample;
 use crate::scenario::driven::{self, dump_for, sliding_top, Recorders, Schedule, Snapshot};
 use crate::scenario::rig::{Rig, RigSpec, BOTTOM, TOP};
 use crate::sim::{Parallelism, RunConfig, Simulation, TimeStep};
+use crate::walls::AxisControl;
 
 /// Colour bands of the initial height in dumps and snapshots (Fig. 3 colours by initial height).
 pub const HEIGHT_BANDS: u32 = 20;
@@ -33,8 +35,61 @@ pub struct WindowRecord {
     pub height: f64,
     /// h_TBL / H (`None`: nothing slid inside the system, the velocity never crossed a threshold).
     pub h_tbl: Option<f64>,
+    /// The TBL's boundaries over H (`None` as for h_TBL; records of older runs have none).
+    #[serde(default)]
+    pub bounds: Option<TblBounds>,
     /// rho_TBL / rho_0 of the window's profile (`None` when its fit failed).
     pub rho_tbl: Option<f64>,
+}
+
+/// The windows whose TBL lies inside the material, after the start-up (module docs of
+/// [`super`]): what paper 004's "first stationary phase" measures.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct InteriorPhase {
+    pub windows: usize,
+    /// Mean p_T over the force samples inside those windows (engine units).
+    pub p_t: f64,
+    /// Mean of the windows' rho_TBL / rho_0 (over those whose fit succeeded) and h_TBL / H.
+    pub rho_tbl: f64,
+    pub h_tbl: f64,
+}
+
+/// The interior phase of `windows` (each closing at its `step`; the first opens after step 0): the
+/// windows at or after `from_step` that `inside` accepts, with p_T from the `p_t` samples (step,
+/// value) that fall in them. `None` without such a window or without a sample in one.
+pub fn interior_phase(
+    windows: &[WindowRecord],
+    from_step: u64,
+    inside: impl Fn(&WindowRecord) -> bool,
+    p_t: &[(u64, f64)],
+) -> Option<InteriorPhase> {
+    let mut opened = 0u64;
+    let (mut n, mut h_sum) = (0usize, 0.0);
+    let (mut rho_sum, mut rho_n) = (0.0, 0usize);
+    let (mut p_sum, mut p_n) = (0.0, 0usize);
+    for w in windows {
+        let start = opened;
+        opened = w.step;
+        if start < from_step || !inside(w) {
+            continue;
+        }
+        n += 1;
+        h_sum += w.h_tbl.unwrap_or(0.0);
+        if let Some(r) = w.rho_tbl {
+            rho_sum += r;
+            rho_n += 1;
+        }
+        for &(_, v) in p_t.iter().filter(|(s, _)| *s > start && *s <= w.step) {
+            p_sum += v;
+            p_n += 1;
+        }
+    }
+    (n > 0 && rho_n > 0 && p_n > 0).then(|| InteriorPhase {
+        windows: n,
+        p_t: p_sum / p_n as f64,
+        rho_tbl: rho_sum / rho_n as f64,
+        h_tbl: h_sum / n as f64,
+    })
 }
 
 /// The profile observer: samples binned over the current height, closed into windows.
@@ -75,6 +130,17 @@ impl ProfileProbe {
         ((m, 1.0 - m), layer)
     }
 
+    /// The bodies' inner faces over H (the fitted range's ends) and the reach of `params` over H.
+    fn faces(&self, h: f64, params: &RegimeParams) -> ((f64, f64), f64) {
+        (self.fit_params(h).0, params.boundary_reach * self.d0 / h)
+    }
+
+    /// Whether window `w`'s TBL lies against a body.
+    fn at_body(&self, w: &WindowRecord, params: &RegimeParams) -> bool {
+        let (faces, reach) = self.faces(w.height, params);
+        w.bounds.is_some_and(|b| touches_body(&b, faces, reach))
+    }
+
     fn measure(&self, profile: &Profile) -> Result<LayerMeasures> {
         let (range, layer) = self.fit_params(profile.height);
         measure_layer(profile, self.rho0, range, &layer)
@@ -112,13 +178,12 @@ impl Observer for ProfileProbe {
             return Ok(());
         }
         let profile = self.current.profile();
-        let h_tbl = tbl_bounds(
+        let bounds = tbl_bounds(
             &profile.centres(),
             &profile.velocity_over_v0,
             self.layer.v_lower,
             self.layer.v_upper,
-        )
-        .map(|b| b.thickness());
+        );
         let rho_tbl = self.measure(&profile).ok().map(|m| m.rho_tbl);
         // The window began after its previous one ended; it is steady if it began at or after the
         // steady step (the same test as the run's steady windows).
@@ -133,7 +198,8 @@ impl Observer for ProfileProbe {
             // Velocity control: the top body has moved v0 t (positions wrap along x).
             slide: self.v0 * sim.time(),
             height: profile.height,
-            h_tbl,
+            h_tbl: bounds.map(|b| b.thickness()),
+            bounds,
             rho_tbl,
         });
         self.current.clear();
@@ -166,6 +232,14 @@ pub struct SlidingResult {
     /// First step of the steady part, and the windows it holds.
     pub steady_step: u64,
     pub steady_windows: usize,
+    /// Steady windows whose TBL lies against a body, and the slide (length units) of the first
+    /// window after the start-up whose TBL did (paper 004: "the TBL can travel vertically and reach
+    /// the system's boundary"; its analysis drops that phase).
+    pub steady_windows_at_body: usize,
+    pub body_reached_at: Option<f64>,
+    /// The interior phase (module docs); `None` when no window after `startup` had its TBL
+    /// inside the material.
+    pub interior: Option<InteriorPhase>,
     /// The steady profiles and their measures.
     pub profile: Profile,
     pub layer: LayerMeasures,
@@ -249,7 +323,15 @@ pub fn run_resumable(
         par,
     )?;
     let v0 = cfg.velocity();
-    rig.set_top(sliding_top(v0, cfg.pressure));
+    let mut top_motion = sliding_top(v0, cfg.pressure);
+    if cfg.start_ramp_over_tau_m > 0.0 {
+        top_motion.axes[0] = AxisControl::Ramp {
+            to: v0,
+            acceleration: cfg.start_ramp_over_tau_m * tau_m / (cfg.density * cfg.length),
+        };
+        top_motion.velocity.x = 0.0;
+    }
+    rig.set_top(top_motion);
     let dt = rig.sim.dt();
     let total = cfg.steps(dt)?;
     let every = (total / (cfg.windows * cfg.samples_per_window)).max(1);
@@ -349,16 +431,46 @@ pub fn run_resumable(
         .map(|(a, b)| shear_traction(a.force[0], b.force[0], area))
         .collect();
     let p_t = steady_forces.iter().sum::<f64>() / steady_forces.len().max(1) as f64;
+    let (faces, _) = st.probe.faces(profile.height, &cfg.regime);
     let regime = classify_regime(
         &RegimeData {
             rho_tbl: layer.rho_tbl,
             p_t,
             tau_m,
             h_tbl: h,
+            bounds: layer.bounds,
+            faces,
+            d0: d0 / profile.height,
         },
         &cfg.regime,
     )
     .map_err(|e| DemError::InvalidConfig(format!("sliding regime: {e}")))?;
+    let at_body = |w: &WindowRecord| st.probe.at_body(w, &cfg.regime);
+    let startup_step = (cfg.startup * total as f64).round() as u64;
+    // A window counts once it began at or after the start-up's end (its previous window's step).
+    let after_startup: Vec<&WindowRecord> = st
+        .probe
+        .windows
+        .iter()
+        .zip(std::iter::once(0).chain(st.probe.windows.iter().map(|w| w.step)))
+        .filter(|(_, opened)| *opened >= startup_step)
+        .map(|(w, _)| w)
+        .collect();
+    let body_reached_at = after_startup.iter().find(|w| at_body(w)).map(|w| w.slide);
+    let steady_windows_at_body = steady_windows.iter().filter(|w| at_body(w)).count();
+    let all_p_t: Vec<(u64, f64)> = st
+        .top
+        .samples
+        .iter()
+        .zip(&st.bottom.samples)
+        .map(|(a, b)| (a.step, shear_traction(a.force[0], b.force[0], area)))
+        .collect();
+    let interior = interior_phase(
+        &st.probe.windows,
+        startup_step,
+        |w| w.bounds.is_some() && !at_body(w),
+        &all_p_t,
+    );
     let d_star = cfg.d_star()?;
     let last = Snapshot::of(&rig.sim, &band, &roles);
     Ok(SlidingResult {
@@ -375,6 +487,9 @@ pub fn run_resumable(
         d_m_over_d0: d_star / 8.0 / d0,
         steady_step,
         steady_windows: steady_windows.len(),
+        steady_windows_at_body,
+        body_reached_at,
+        interior,
         windows: st.probe.windows.clone(),
         force_top: st.top.samples.clone(),
         force_bottom: st.bottom.samples.clone(),
@@ -390,4 +505,44 @@ pub fn run_resumable(
         last,
         wall_seconds: recorded.wall_seconds,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn window(step: u64, lo: f64, hi: f64, rho: Option<f64>) -> WindowRecord {
+        WindowRecord {
+            step,
+            time: step as f64,
+            slide: step as f64,
+            height: 1.0,
+            h_tbl: Some(hi - lo),
+            bounds: Some(TblBounds { lo, hi }),
+            rho_tbl: rho,
+        }
+    }
+
+    #[test]
+    fn the_interior_phase_keeps_the_windows_inside_the_material_after_the_start() {
+        // Four windows of 10 steps; p_T sampled every 5 steps, equal to the step number.
+        let w = [
+            window(10, 0.1, 0.9, Some(0.5)),  // start-up: before from_step
+            window(20, 0.4, 0.6, Some(0.9)),  // inside
+            window(30, 0.05, 0.3, Some(0.1)), // against the bottom body
+            window(40, 0.3, 0.7, None),       // inside, its fit failed
+        ];
+        let p: Vec<(u64, f64)> = (1..=8).map(|k| (5 * k, 5.0 * k as f64)).collect();
+        let inside = |w: &WindowRecord| w.bounds.is_some_and(|b| b.lo > 0.1);
+        let i = interior_phase(&w, 10, inside, &p).unwrap();
+        assert_eq!(i.windows, 2);
+        // Samples at steps 15, 20 and 35, 40.
+        assert_eq!(i.p_t, (15.0 + 20.0 + 35.0 + 40.0) / 4.0);
+        // The failed fit is left out of rho_TBL, not of h_TBL.
+        assert_eq!(i.rho_tbl, 0.9);
+        assert!((i.h_tbl - (0.2 + 0.4) / 2.0).abs() < 1e-12);
+        // Nothing inside after the start: no phase.
+        assert!(interior_phase(&w, 10, |_| false, &p).is_none());
+        assert!(interior_phase(&w, 40, inside, &p).is_none());
+    }
 }
