@@ -29,10 +29,21 @@ fn the_top_body_slides_at_v0_carries_p_n_and_threads_do_not_matter() {
     let (sample, model, cfg) = small();
     let r = run(&sample, &model, &cfg, TAU_M, Parallelism::Sequential, None).unwrap();
     let t = r.steps as f64 * r.dt;
-    // The top body moved v0 t by each force sample (velocity control).
+    // The top body moved by the sum of its velocities, ramped from rest at a = f tau_m / (rho L)
+    // to v0 (v_n = min(n a dt, v0)), by each force sample: v0 t less v0^2 / (2 a) once ramped.
     let last = r.force_top.last().unwrap();
     assert!(last.step + r.steps / 100 >= r.steps);
-    assert!((last.displacement[0] - r.v0 * last.time).abs() < 1e-9 * r.v0 * last.time);
+    let a = cfg.start_ramp_over_tau_m * TAU_M / (cfg.density * cfg.length);
+    assert!(a > 0.0, "the default start is ramped");
+    let moved: f64 = (1..=last.step)
+        .map(|n| (n as f64 * a * r.dt).min(r.v0) * r.dt)
+        .sum();
+    assert!((last.displacement[0] - moved).abs() < 1e-9 * moved);
+    let ramped = r.v0 * last.time - r.v0 * r.v0 / (2.0 * a);
+    assert!(
+        (moved - ramped).abs() < r.v0 * r.dt,
+        "{moved} against {ramped}"
+    );
     assert!((r.v0 - 0.1).abs() < 1e-15 && (t - 20.0).abs() <= r.dt);
     // The bottom body does not move.
     assert!(r.force_bottom.iter().all(|s| s.displacement == [0.0; 3]));

@@ -96,7 +96,11 @@ pub fn draw_profiles(path: &Path, r: &SlidingResult) -> Result<()> {
 /// Draws h_TBL / H per window and its moving average over `window` windows against the slide / L.
 pub fn draw_h_tbl(path: &Path, r: &SlidingResult, length: f64, window: usize) -> Result<()> {
     ensure_font()?;
-    let labels = ["h_TBL / H per window", "moving average"];
+    let labels = [
+        "h_TBL / H per window",
+        "moving average",
+        "windows whose TBL lies against a rigid body",
+    ];
     let (root, body) = keyed_figure(path, (1100, 520), &labels, 2, None)?;
     let pts: Vec<(f64, f64)> = r
         .windows
@@ -109,9 +113,17 @@ pub fn draw_h_tbl(path: &Path, r: &SlidingResult, length: f64, window: usize) ->
         .zip(moving_average(&h, window))
         .map(|(p, m)| (p.0, m))
         .collect();
+    let at_body: Vec<(f64, f64)> = r
+        .windows
+        .iter()
+        .zip(&r.windows_at_body)
+        .filter(|(_, &b)| b)
+        .filter_map(|(w, _)| w.h_tbl.map(|h| (w.slide / length, h)))
+        .collect();
     let series: Vec<Series> = vec![
         (String::new(), pts, Mark::Points, 0),
         (String::new(), avg, Mark::Line, 1),
+        (String::new(), at_body, Mark::Dots, 2),
     ];
     let title = format!(
         "TBL thickness over time (Fig. 5), regime: {}",

@@ -3,8 +3,10 @@
 //! for the run and its strength tests), the run (resumable), and its outputs:
 //! - `summary.json`: `rho_tbl` (over rho_0), `h_tbl` (over H), `p_t`, `p_n`, `regime`, `tau_m` (over
 //!   E, measured on the run's own relaxed box with the patch-test rig unless the config gives it, and
-//!   `tau_m_how`), `p_t_over_tau_m`, the layer's `agitation` (over v0), with the material (sigma_m,
-//!   gamma, d*), the cost and the settings;
+//!   `tau_m_how`), `p_t_over_tau_m`, the layer's `agitation` (over v0), where the TBL first lay
+//!   against a rigid body (`body_reached_at_l`) and the measures of the `interior` phase (TBL inside
+//!   the material, paper 004's first stationary phase), with the material (sigma_m, gamma, d*), the
+//!   cost and the settings;
 //! - `profiles.csv`: the steady profiles over y / H (velocity over v0, density over rho_0 raw and
 //!   Savitzky-Golay filtered, the fitted Gaussian, agitation over v0);
 //! - `windows.csv`: h_TBL / H, rho_TBL / rho_0 and the TBL's boundaries over H per window against

@@ -237,6 +237,8 @@ pub struct SlidingResult {
     /// the system's boundary"; its analysis drops that phase).
     pub steady_windows_at_body: usize,
     pub body_reached_at: Option<f64>,
+    /// Whether each window's TBL lay against a body (one per `windows`).
+    pub windows_at_body: Vec<bool>,
     /// The interior phase (module docs); `None` when no window after `startup` had its TBL
     /// inside the material.
     pub interior: Option<InteriorPhase>,
@@ -489,6 +491,7 @@ pub fn run_resumable(
         steady_windows: steady_windows.len(),
         steady_windows_at_body,
         body_reached_at,
+        windows_at_body: st.probe.windows.iter().map(at_body).collect(),
         interior,
         windows: st.probe.windows.clone(),
         force_top: st.top.samples.clone(),
