@@ -54,10 +54,7 @@ fn problem_of(p: Prepared, cfg: &CalibrationConfig, out: Option<&Path>) -> Resul
 
 /// A rayon pool of `par`'s threads (one for `Sequential`).
 pub fn pool(par: Parallelism) -> Result<rayon::ThreadPool> {
-    let n = match par {
-        Parallelism::Sequential => 1,
-        Parallelism::Threads(n) => n.max(1),
-    };
+    let n = par.threads();
     rayon::ThreadPoolBuilder::new()
         .num_threads(n)
         .build()

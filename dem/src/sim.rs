@@ -28,9 +28,29 @@ pub enum Parallelism {
     /// One thread, no rayon.
     #[default]
     Sequential,
-    /// A dedicated rayon pool of this many threads.
+    /// A dedicated rayon pool of this many threads, at every system size (what the tests that compare
+    /// thread counts use, so that small systems exercise the parallel path too).
     Threads(usize),
+    /// A pool of this many threads for systems of at least [`SERIAL_BELOW`] particles; smaller ones
+    /// step on the calling thread, to the same bits. What the command line's `--threads` gives.
+    Adaptive(usize),
 }
+
+impl Parallelism {
+    /// The threads it may use (at least 1).
+    pub fn threads(&self) -> usize {
+        match *self {
+            Parallelism::Sequential => 1,
+            Parallelism::Threads(n) | Parallelism::Adaptive(n) => n.max(1),
+        }
+    }
+}
+
+/// Under [`Parallelism::Adaptive`], systems with fewer particles step on one thread whatever the
+/// pool: their step (~0.1 ms) is too short for the pool's hand-offs. Measured on this project's 2-core machine (docs/performance.md,
+/// 5 Dec): HCP packings of 144 / 384 / 800 particles ran 0.90x / 1.0x / 1.29x as fast on two
+/// threads as on one, and the 508-particle paper-000 junction (d0 = 6 nm) 0.86x.
+pub const SERIAL_BELOW: usize = 600;
 
 /// The time step, absolute or relative to the critical one of eq (6).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -288,8 +308,10 @@ impl Simulation {
     /// Uses `parallelism` from now on.
     pub fn set_parallelism(&mut self, parallelism: Parallelism) -> Result<()> {
         self.pool = match parallelism {
-            Parallelism::Sequential | Parallelism::Threads(0 | 1) => None,
-            Parallelism::Threads(n) => Some(Arc::new(
+            Parallelism::Sequential
+            | Parallelism::Threads(0 | 1)
+            | Parallelism::Adaptive(0 | 1) => None,
+            Parallelism::Threads(n) | Parallelism::Adaptive(n) => Some(Arc::new(
                 rayon::ThreadPoolBuilder::new()
                     .num_threads(n)
                     .build()
@@ -373,11 +395,17 @@ impl Simulation {
     }
 
     /// Advances `n` steps. With a thread pool, the steps run inside one `install` of the pool: handing
-    /// every step to the pool and back cost ~5 us, 7 % of a 1 000-particle step on two threads.
+    /// every step to the pool and back cost ~5 us, 7 % of a 1 000-particle step on two threads. Under
+    /// [`Parallelism::Adaptive`] a system below [`SERIAL_BELOW`] particles steps on the calling thread
+    /// (the result is the same to the bit either way).
     pub fn run(&mut self, n: u64) -> Result<()> {
+        let serial = matches!(self.parallelism, Parallelism::Adaptive(_))
+            && self.particles.len() < SERIAL_BELOW;
         match self.pool.clone() {
-            Some(pool) => pool.install(|| (0..n).try_for_each(|_| self.checked_step(true))),
-            None => (0..n).try_for_each(|_| self.checked_step(false)),
+            Some(pool) if !serial => {
+                pool.install(|| (0..n).try_for_each(|_| self.checked_step(true)))
+            }
+            _ => (0..n).try_for_each(|_| self.checked_step(false)),
         }
     }
 

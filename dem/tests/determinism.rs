@@ -12,9 +12,14 @@ use rand_chacha::ChaCha8Rng;
 fn scene(par: Parallelism) -> Simulation {
     // A sheared slab with walls, sliding and breaking bonds: every code path of the step. 4 800 particles:
     // three force blocks, so both colours of blocks run and pairs cross block boundaries.
+    slab(par, 20, 12)
+}
+
+/// The sheared slab of `n` x `n` x `layers` HCP sites.
+fn slab(par: Parallelism, n: usize, layers: usize) -> Simulation {
     let mut mat = dem::Material::table4(0.15);
     mat.restitution = 0.9;
-    let (mut p, bx) = hcp_lattice(20, 20, 12, 90.0, 1.0, [true, true, false]).unwrap();
+    let (mut p, bx) = hcp_lattice(n, n, layers, 90.0, 1.0, [true, true, false]).unwrap();
     let z = |i: usize| p.pos[i].z;
     let zmax = (0..p.len()).map(z).fold(f64::MIN, f64::max);
     let zmin = (0..p.len()).map(z).fold(f64::MAX, f64::min);
@@ -60,6 +65,39 @@ fn fingerprint(s: &Simulation) -> Vec<u64> {
     );
     v.push(s.energy().balance().to_bits());
     v
+}
+
+#[test]
+fn a_small_system_steps_alike_on_the_pool_and_on_the_adaptive_single_thread() {
+    // Below SERIAL_BELOW, Adaptive(2) steps on the calling thread; Threads(2) still uses the pool.
+    let mut seq = slab(Parallelism::Sequential, 6, 8);
+    assert!(
+        seq.particles.len() < dem::sim::SERIAL_BELOW,
+        "{}",
+        seq.particles.len()
+    );
+    let mut pool = slab(Parallelism::Threads(2), 6, 8);
+    let mut adaptive = slab(Parallelism::Adaptive(2), 6, 8);
+    for s in [&mut seq, &mut pool, &mut adaptive] {
+        s.run(300).unwrap();
+    }
+    assert!(seq.energy().sliding > 0.0, "the scene should slide");
+    assert_eq!(fingerprint(&seq), fingerprint(&pool));
+    assert_eq!(fingerprint(&seq), fingerprint(&adaptive));
+    // Above it, Adaptive(2) runs on its pool, to the same bits.
+    let mut big = scene(Parallelism::Adaptive(2));
+    let mut one = scene(Parallelism::Sequential);
+    big.run(50).unwrap();
+    one.run(50).unwrap();
+    assert_eq!(fingerprint(&big), fingerprint(&one));
+    assert_eq!(
+        [
+            Parallelism::Sequential.threads(),
+            Parallelism::Threads(0).threads(),
+            Parallelism::Adaptive(3).threads()
+        ],
+        [1, 1, 3]
+    );
 }
 
 #[test]

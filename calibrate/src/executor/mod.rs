@@ -111,10 +111,7 @@ impl<'a, P: Problem> Executor<'a, P> {
     /// Evaluations (and the work inside each) run on `par`'s threads; default one thread. The
     /// results do not depend on it.
     pub fn parallelism(mut self, par: dem::Parallelism) -> Self {
-        self.threads = match par {
-            dem::Parallelism::Sequential => 1,
-            dem::Parallelism::Threads(n) => n.max(1),
-        };
+        self.threads = par.threads();
         self
     }
 

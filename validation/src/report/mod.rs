@@ -134,7 +134,7 @@ impl Context<'_> {
         // A lone case gets the threads; several run side by side, one thread each (the engine gives
         // the same bits for any thread count, so a cached result does not depend on this choice).
         let par = if pending <= 1 && self.at_once > 1 {
-            Parallelism::Threads(self.at_once)
+            Parallelism::Adaptive(self.at_once)
         } else {
             Parallelism::Sequential
         };
