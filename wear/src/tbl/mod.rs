@@ -8,7 +8,8 @@
 //! - [`fit`]: the least-squares Gaussian whose minimum is rho_TBL (Fig. 4b);
 //! - [`layer`]: one profile to its boundaries, filtered density and rho_TBL;
 //! - [`regime`]: the steady state and the regime label of a run (mixed with wear particles, shear
-//!   band, growing large particles; Fig. 3) from these measures and p_T.
+//!   band, growing large particles; Fig. 3; or a TBL that has reached a rigid body, the phase the
+//!   paper drops) from these measures and p_T.
 
 pub mod bounds;
 pub mod filter;
