@@ -482,8 +482,13 @@ fn page(outs: &[RunOut], strengths: &[StrengthOut], profile: Profile) -> String 
     let mut h = String::from(
         "<p>Quasi-2D box L x L x 3 d0 of paper 004 with the normal-only force (nu = 1/4), log-normal \
          sizes, two halves with a non-matching interface, the top body under p_N dragged at \
-         0.1 sqrt(E/rho); E = rho = L = 1. rho_TBL is the minimum of the Gaussian fitted to the \
-         Savitzky-Golay filtered density profile, averaged over the steady half of the run.</p>\n",
+         0.1 sqrt(E/rho), brought there from rest at 0.5 tau_m / (rho L) (a velocity step would send \
+         2.4 tau_m into the sigma_m = 0.1 E sample and break it at the body's face; docs/sliding.md); E = rho = L = 1. \
+         rho_TBL is the minimum of the Gaussian fitted to the Savitzky-Golay filtered density \
+         profile, averaged over the steady half of the run. A TBL whose boundary lies within half a \
+         diameter of a rigid body's face has reached the body (the phase paper 004 drops, label \
+         boundary_reached); the interior phase is the windows after the first tenth of the run whose \
+         TBL lies inside the material, the paper's first stationary phase.</p>\n",
     );
     if profile == Profile::Quick {
         h += "<p class=\"note\">Quick profile: L = 20 d0, 5 L of sliding, 100 bins, one seed; d* = 0.2 L \
