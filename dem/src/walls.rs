@@ -2,12 +2,13 @@
 //!
 //! Every particle belongs to one group. Free groups follow their pair forces; a rigid group moves as one
 //! body in translation only (no rotation, as the papers' walls), each axis either at a prescribed velocity
-//! (constant, or ramped towards a target at a bounded acceleration), or driven by its pair forces plus a prescribed external force, or plus a prescribed traction times the
-//! box cross-section (a pressure-controlled wall). A frozen wall is a rigid group at zero velocity.
+//! (constant, or ramped towards a target at a bounded acceleration), or driven by its pair forces plus a
+//! prescribed external force, or plus a prescribed traction times the box cross-section (a
+//! pressure-controlled wall). A frozen wall is a rigid group at zero velocity.
 //!
-//! The work the outside world does on the walls is booked in the energy ledger: for a velocity-controlled
-//! axis (constant or ramped) the constraint force is minus the pair force on the group, for a
-//! force-controlled one it is the prescribed force.
+//! The work the outside world does on the walls is booked in the energy ledger: for a constant-velocity
+//! axis the constraint force is minus the pair force on the group, for a ramped one that plus the mass
+//! times the ramp's acceleration, for a force-controlled one it is the prescribed force.
 
 use serde::{Deserialize, Serialize};
 
@@ -115,14 +116,14 @@ impl RigidIndex {
                         | AxisControl::Force(v)
                         | AxisControl::Traction(v) => *v,
                         AxisControl::Ramp { to, acceleration } => {
-                            if acceleration.is_nan() || *acceleration <= 0.0 {
+                            if !(acceleration.is_finite() && *acceleration > 0.0) {
                                 return Err(DemError::InvalidConfig(format!(
                                     "group '{}' axis {a}: ramp acceleration {acceleration} must be \
-                                     positive",
+                                     positive and finite",
                                     g.name
                                 )));
                             }
-                            to + acceleration
+                            *to
                         }
                     };
                     if !v.is_finite() {

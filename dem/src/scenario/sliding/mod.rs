@@ -61,7 +61,8 @@ use crate::sample::{RelaxConfig, SampleSpec};
 
 pub use geometry::{build, Geometry, BODY_BOTTOM_HALF, BODY_TOP_HALF};
 pub use run::{
-    interior_phase, run, run_resumable, InteriorPhase, SlidingResult, WindowRecord, HEIGHT_BANDS,
+    interior_phase, run, run_resumable, slide, InteriorPhase, SlidingResult, WindowRecord,
+    HEIGHT_BANDS,
 };
 pub use strength::{
     flow_stress, measure_strength, FlowStress, MaterialStrength, MeasuredPeak, StrengthTests,
@@ -161,6 +162,8 @@ pub struct SlidingConfig {
     /// fixed velocity"); f > 0 ramps it up at the acceleration a = f tau_m / (rho L), which needs a
     /// shear stress rho L a = f tau_m to carry the sample along. Default 0.5 (the decision above:
     /// half the strength, reached in 0.37 L of slide at sigma_m = 0.1 E).
+    /// The run lasts `distance_over_l` L / v0, so a ramped body slides v0^2 / (2 a) less than that
+    /// (0.37 L at sigma_m = 0.1 E); the windows' `slide` is the body's own.
     pub start_ramp_over_tau_m: f64,
     /// Shear strength tau_m / sigma_m of the material, when given; default none: tau_m is measured on
     /// the run's own relaxed box with the patch-test rig ([`measure_strength`]; paper 004 gives

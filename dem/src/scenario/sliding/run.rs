@@ -54,23 +54,25 @@ pub struct InteriorPhase {
     pub h_tbl: f64,
 }
 
-/// The interior phase of `windows` (each closing at its `step`; the first opens after step 0): the
-/// windows at or after `from_step` that `inside` accepts, with p_T from the `p_t` samples (step,
-/// value) that fall in them. `None` without such a window or without a sample in one.
+/// The step after which each of `windows` opened (its predecessor's last step; 0 for the first).
+fn opened(windows: &[WindowRecord]) -> impl Iterator<Item = u64> + '_ {
+    std::iter::once(0).chain(windows.iter().map(|w| w.step))
+}
+
+/// The interior phase of `windows` (each closing at its `step`): the windows that opened at or after
+/// `from_step` and are flagged `inside`, with p_T from the `p_t` samples (step, value) that fall in
+/// them. `None` without such a window or without a sample in one.
 pub fn interior_phase(
     windows: &[WindowRecord],
     from_step: u64,
-    inside: impl Fn(&WindowRecord) -> bool,
+    inside: &[bool],
     p_t: &[(u64, f64)],
 ) -> Option<InteriorPhase> {
-    let mut opened = 0u64;
     let (mut n, mut h_sum) = (0usize, 0.0);
     let (mut rho_sum, mut rho_n) = (0.0, 0usize);
     let (mut p_sum, mut p_n) = (0.0, 0usize);
-    for w in windows {
-        let start = opened;
-        opened = w.step;
-        if start < from_step || !inside(w) {
+    for ((w, start), &is_inside) in windows.iter().zip(opened(windows)).zip(inside) {
+        if start < from_step || !is_inside {
             continue;
         }
         n += 1;
@@ -92,6 +94,16 @@ pub fn interior_phase(
     })
 }
 
+/// The top body's slide by time `t` at speed `v0`, reached from rest at acceleration `ramp` (`None`:
+/// at once): a t^2 / 2 during the ramp, v0 t - v0^2 / (2 a) after it.
+pub fn slide(v0: f64, ramp: Option<f64>, t: f64) -> f64 {
+    match ramp {
+        Some(a) if t < v0 / a => 0.5 * a * t * t,
+        Some(a) => v0 * t - v0 * v0 / (2.0 * a),
+        None => v0 * t,
+    }
+}
+
 /// The profile observer: samples binned over the current height, closed into windows.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 struct ProfileProbe {
@@ -105,6 +117,10 @@ struct ProfileProbe {
     area: f64,
     v0: f64,
     rho0: f64,
+    /// The top body's start-up acceleration (`None`: a velocity step); records of older runs have
+    /// none.
+    #[serde(default)]
+    ramp: Option<f64>,
     /// Bins within this distance of either end are outside the fit (the rigid bodies).
     margin: f64,
     d0: f64,
@@ -130,14 +146,11 @@ impl ProfileProbe {
         ((m, 1.0 - m), layer)
     }
 
-    /// The bodies' inner faces over H (the fitted range's ends) and the reach of `params` over H.
-    fn faces(&self, h: f64, params: &RegimeParams) -> ((f64, f64), f64) {
-        (self.fit_params(h).0, params.boundary_reach * self.d0 / h)
-    }
-
-    /// Whether window `w`'s TBL lies against a body.
+    /// Whether window `w`'s TBL lies against a body: within `params`' reach of the bodies' inner
+    /// faces, the fitted range's ends.
     fn at_body(&self, w: &WindowRecord, params: &RegimeParams) -> bool {
-        let (faces, reach) = self.faces(w.height, params);
+        let faces = self.fit_params(w.height).0;
+        let reach = params.boundary_reach * self.d0 / w.height;
         w.bounds.is_some_and(|b| touches_body(&b, faces, reach))
     }
 
@@ -195,8 +208,9 @@ impl Observer for ProfileProbe {
         self.windows.push(WindowRecord {
             step: sim.step_count(),
             time: sim.time(),
-            // Velocity control: the top body has moved v0 t (positions wrap along x).
-            slide: self.v0 * sim.time(),
+            // Velocity control (positions wrap along x): the top body has moved v0 t, less the lag
+            // of its ramp.
+            slide: slide(self.v0, self.ramp, sim.time()),
             height: profile.height,
             h_tbl: bounds.map(|b| b.thickness()),
             bounds,
@@ -326,10 +340,12 @@ pub fn run_resumable(
     )?;
     let v0 = cfg.velocity();
     let mut top_motion = sliding_top(v0, cfg.pressure);
-    if cfg.start_ramp_over_tau_m > 0.0 {
+    let ramp = (cfg.start_ramp_over_tau_m > 0.0)
+        .then(|| cfg.start_ramp_over_tau_m * tau_m / (cfg.density * cfg.length));
+    if let Some(acceleration) = ramp {
         top_motion.axes[0] = AxisControl::Ramp {
             to: v0,
-            acceleration: cfg.start_ramp_over_tau_m * tau_m / (cfg.density * cfg.length),
+            acceleration,
         };
         top_motion.velocity.x = 0.0;
     }
@@ -382,6 +398,7 @@ pub fn run_resumable(
                 area: lengths.x * lengths.z,
                 v0,
                 rho0,
+                ramp,
                 margin: (cfg.body_thickness_over_d0 + 1.0) * d0,
                 d0,
                 layer: cfg.layer,
@@ -433,7 +450,7 @@ pub fn run_resumable(
         .map(|(a, b)| shear_traction(a.force[0], b.force[0], area))
         .collect();
     let p_t = steady_forces.iter().sum::<f64>() / steady_forces.len().max(1) as f64;
-    let (faces, _) = st.probe.faces(profile.height, &cfg.regime);
+    let faces = st.probe.fit_params(profile.height).0;
     let regime = classify_regime(
         &RegimeData {
             rho_tbl: layer.rho_tbl,
@@ -447,19 +464,29 @@ pub fn run_resumable(
         &cfg.regime,
     )
     .map_err(|e| DemError::InvalidConfig(format!("sliding regime: {e}")))?;
-    let at_body = |w: &WindowRecord| st.probe.at_body(w, &cfg.regime);
-    let startup_step = (cfg.startup * total as f64).round() as u64;
-    // A window counts once it began at or after the start-up's end (its previous window's step).
-    let after_startup: Vec<&WindowRecord> = st
-        .probe
-        .windows
+    let windows = &st.probe.windows;
+    let windows_at_body: Vec<bool> = windows
         .iter()
-        .zip(std::iter::once(0).chain(st.probe.windows.iter().map(|w| w.step)))
-        .filter(|(_, opened)| *opened >= startup_step)
-        .map(|(w, _)| w)
+        .map(|w| st.probe.at_body(w, &cfg.regime))
         .collect();
-    let body_reached_at = after_startup.iter().find(|w| at_body(w)).map(|w| w.slide);
-    let steady_windows_at_body = steady_windows.iter().filter(|w| at_body(w)).count();
+    let startup_step = (cfg.startup * total as f64).round() as u64;
+    // A window counts once it opened at or after the start-up's end.
+    let body_reached_at = windows
+        .iter()
+        .zip(opened(windows))
+        .zip(&windows_at_body)
+        .find(|((_, start), &at)| *start >= startup_step && at)
+        .map(|((w, _), _)| w.slide);
+    let steady_windows_at_body = windows
+        .iter()
+        .zip(&windows_at_body)
+        .filter(|(w, &at)| at && w.step + 1 >= steady_step + window_steps)
+        .count();
+    let inside: Vec<bool> = windows
+        .iter()
+        .zip(&windows_at_body)
+        .map(|(w, &at)| w.bounds.is_some() && !at)
+        .collect();
     let all_p_t: Vec<(u64, f64)> = st
         .top
         .samples
@@ -467,12 +494,7 @@ pub fn run_resumable(
         .zip(&st.bottom.samples)
         .map(|(a, b)| (a.step, shear_traction(a.force[0], b.force[0], area)))
         .collect();
-    let interior = interior_phase(
-        &st.probe.windows,
-        startup_step,
-        |w| w.bounds.is_some() && !at_body(w),
-        &all_p_t,
-    );
+    let interior = interior_phase(windows, startup_step, &inside, &all_p_t);
     let d_star = cfg.d_star()?;
     let last = Snapshot::of(&rig.sim, &band, &roles);
     Ok(SlidingResult {
@@ -491,7 +513,7 @@ pub fn run_resumable(
         steady_windows: steady_windows.len(),
         steady_windows_at_body,
         body_reached_at,
-        windows_at_body: st.probe.windows.iter().map(at_body).collect(),
+        windows_at_body,
         interior,
         windows: st.probe.windows.clone(),
         force_top: st.top.samples.clone(),
@@ -536,8 +558,11 @@ mod tests {
             window(40, 0.3, 0.7, None),       // inside, its fit failed
         ];
         let p: Vec<(u64, f64)> = (1..=8).map(|k| (5 * k, 5.0 * k as f64)).collect();
-        let inside = |w: &WindowRecord| w.bounds.is_some_and(|b| b.lo > 0.1);
-        let i = interior_phase(&w, 10, inside, &p).unwrap();
+        let inside: Vec<bool> = w
+            .iter()
+            .map(|w| w.bounds.is_some_and(|b| b.lo > 0.1))
+            .collect();
+        let i = interior_phase(&w, 10, &inside, &p).unwrap();
         assert_eq!(i.windows, 2);
         // Samples at steps 15, 20 and 35, 40.
         assert_eq!(i.p_t, (15.0 + 20.0 + 35.0 + 40.0) / 4.0);
@@ -545,7 +570,16 @@ mod tests {
         assert_eq!(i.rho_tbl, 0.9);
         assert!((i.h_tbl - (0.2 + 0.4) / 2.0).abs() < 1e-12);
         // Nothing inside after the start: no phase.
-        assert!(interior_phase(&w, 10, |_| false, &p).is_none());
-        assert!(interior_phase(&w, 40, inside, &p).is_none());
+        assert!(interior_phase(&w, 10, &[false; 4], &p).is_none());
+        assert!(interior_phase(&w, 40, &inside, &p).is_none());
+    }
+
+    #[test]
+    fn the_slide_lags_a_ramped_start_by_half_its_ramp() {
+        // v0 = 2 reached at a = 4: 0.5 a t^2 until t = 0.5, then v0 t - v0^2 / (2 a), continuous.
+        assert_eq!(slide(2.0, None, 3.0), 6.0);
+        assert_eq!(slide(2.0, Some(4.0), 0.25), 0.125);
+        assert_eq!(slide(2.0, Some(4.0), 0.5), 0.5);
+        assert_eq!(slide(2.0, Some(4.0), 3.0), 5.5);
     }
 }
