@@ -44,7 +44,15 @@ fn the_top_body_slides_at_v0_carries_p_n_and_threads_do_not_matter() {
         (moved - ramped).abs() < r.v0 * r.dt,
         "{moved} against {ramped}"
     );
-    assert!((r.v0 - 0.1).abs() < 1e-15 && (t - 20.0).abs() <= r.dt);
+    // The run is longer than distance / v0 = 20 by the ramp's lag v0 / (2 a), so the body slides
+    // the whole 2 L.
+    assert!((r.v0 - 0.1).abs() < 1e-15 && (t - 20.0 - r.v0 / (2.0 * a)).abs() <= r.dt);
+    let slid = r.v0 * t - r.v0 * r.v0 / (2.0 * a);
+    assert!(
+        (slid - cfg.distance_over_l * cfg.length).abs() <= r.v0 * r.dt,
+        "slid {slid} of {} L",
+        cfg.distance_over_l
+    );
     // The bottom body does not move.
     assert!(r.force_bottom.iter().all(|s| s.displacement == [0.0; 3]));
     // Over the second half (about four periods of the top body's bounce on the layer) the layer

@@ -34,8 +34,9 @@
 //! body is ramped to v0 at the acceleration a = f tau_m / (rho L) with f = 0.5 by default
 //! (`start_ramp_over_tau_m`; 0 restores the step): carrying the sample along then takes a shear
 //! stress of half its strength. The ramp lasts v0 / a (0.37 L of slide at sigma_m = 0.1 E, less for
-//! the stronger materials), inside the start-up that the measures leave out. docs/sliding.md,
-//! "Where the TBL sits", has the runs behind it.
+//! the stronger materials), inside the start-up that the measures leave out, and the run is longer
+//! by the ramp's lag v0 / (2 a) so that the body still slides the whole distance
+//! ([`SlidingConfig::steps`]). docs/sliding.md, "Where the TBL sits", has the runs behind it.
 //!
 //! Decision (the interior phase): paper 004 measures "the first stationary phase" and drops the
 //! parts after the TBL "reaches the system's boundary" (section 3, Fig. 5). The steady part above is
@@ -162,8 +163,8 @@ pub struct SlidingConfig {
     /// fixed velocity"); f > 0 ramps it up at the acceleration a = f tau_m / (rho L), which needs a
     /// shear stress rho L a = f tau_m to carry the sample along. Default 0.5 (the decision above:
     /// half the strength, reached in 0.37 L of slide at sigma_m = 0.1 E).
-    /// The run lasts `distance_over_l` L / v0, so a ramped body slides v0^2 / (2 a) less than that
-    /// (0.37 L at sigma_m = 0.1 E); the windows' `slide` is the body's own.
+    /// The run is lengthened by the ramp's lag v0 / (2 a), so that the body still slides
+    /// `distance_over_l` L; the windows' `slide` is the body's own.
     pub start_ramp_over_tau_m: f64,
     /// Shear strength tau_m / sigma_m of the material, when given; default none: tau_m is measured on
     /// the run's own relaxed box with the patch-test rig ([`measure_strength`]; paper 004 gives
@@ -399,8 +400,11 @@ impl SlidingConfig {
         // before the relaxation and the strength tests rather than after them.
         let r = self.d0();
         let mass = crate::state::sphere_mass(self.density, r);
-        self.steps(self.time_step_fraction * model.critical_time_step(r, mass))
-            .map(|_| ())
+        self.steps(
+            self.time_step_fraction * model.critical_time_step(r, mass),
+            None,
+        )
+        .map(|_| ())
     }
 
     /// Checks that `model` is the law this scenario is defined for (paper 004: normal-only, nu = 1/4).
@@ -447,11 +451,22 @@ impl SlidingConfig {
         }
     }
 
-    /// Steps for the sliding distance at time step `dt`.
-    pub fn steps(&self, dt: f64) -> Result<u64> {
+    /// The top body's acceleration a = f tau_m / (rho L) from rest to v0, for the material's shear
+    /// strength `tau_m`; `None` when the body starts at v0 (f = 0).
+    pub fn ramp_acceleration(&self, tau_m: f64) -> Option<f64> {
+        (self.start_ramp_over_tau_m > 0.0)
+            .then(|| self.start_ramp_over_tau_m * tau_m / (self.density * self.length))
+    }
+
+    /// Steps for the sliding distance at time step `dt`, with the body ramped at `ramp` (or started
+    /// at v0 with `None`): distance / v0, plus the ramp's lag v0 / (2 a) (the body covers a t^2 / 2
+    /// while ramping, v0 / (2 a) of time short of v0 t), so that every run slides its full distance.
+    pub fn steps(&self, dt: f64, ramp: Option<f64>) -> Result<u64> {
+        let v0 = self.velocity();
+        let lag = ramp.map_or(0.0, |a| v0 / (2.0 * a));
         crate::scenario::step_budget(
             "the slide (distance_over_l L at the sliding speed)",
-            (self.distance_over_l * self.length / self.velocity() / dt).ceil(),
+            ((self.distance_over_l * self.length / v0 + lag) / dt).ceil(),
         )
     }
 }

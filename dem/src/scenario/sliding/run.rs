@@ -340,8 +340,7 @@ pub fn run_resumable(
     )?;
     let v0 = cfg.velocity();
     let mut top_motion = sliding_top(v0, cfg.pressure);
-    let ramp = (cfg.start_ramp_over_tau_m > 0.0)
-        .then(|| cfg.start_ramp_over_tau_m * tau_m / (cfg.density * cfg.length));
+    let ramp = cfg.ramp_acceleration(tau_m);
     if let Some(acceleration) = ramp {
         top_motion.axes[0] = AxisControl::Ramp {
             to: v0,
@@ -351,7 +350,7 @@ pub fn run_resumable(
     }
     rig.set_top(top_motion);
     let dt = rig.sim.dt();
-    let total = cfg.steps(dt)?;
+    let total = cfg.steps(dt, ramp)?;
     let every = (total / (cfg.windows * cfg.samples_per_window)).max(1);
     let window_steps = every * cfg.samples_per_window;
     let force_every = (total / cfg.force_samples).max(1);
