@@ -493,7 +493,11 @@ fn page(outs: &[RunOut], strengths: &[StrengthOut], profile: Profile) -> String 
     if profile == Profile::Quick {
         h += "<p class=\"note\">Quick profile: L = 20 d0, 5 L of sliding, 100 bins, one seed; d* = 0.2 L \
               does not enter at this d0 (d*/8 below every pair), so only the p_N and sigma_m trends \
-              are tested.</p>\n";
+              are tested. The 20 d0 box also overstates tau_m (its strength test peaks 12 % above \
+              that of a box three times as large), and its coarse layer carries less than the \
+              paper-size one: section 3's p_T at the shear strength is reproduced at the paper's \
+              size by <code>cgdem --threads 2 sliding configs/sliding-paper-shear-band.toml</code> \
+              (Fig. 3b's material, about 45 minutes; docs/sliding.md).</p>\n";
     }
     h += "<p>tau_m is measured, not taken from the paper: the shear patch test (paper 000 Fig. 4c) \
           on each material's own relaxed box (the sliding run's recipe, law and seed, before the cut), \
