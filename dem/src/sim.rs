@@ -48,8 +48,9 @@ impl Parallelism {
 
 /// Under [`Parallelism::Adaptive`], systems with fewer particles step on one thread whatever the
 /// pool: their step (~0.1 ms) is too short for the pool's hand-offs. Measured on this project's
-/// 2-core machine (docs/performance.md, 5 Dec): HCP packings of 144 / 384 / 800 particles ran 0.90x / 1.0x / 1.29x as fast on two
-/// threads as on one, and the 508-particle paper-000 junction (d0 = 6 nm) 0.86x.
+/// 2-core machine (docs/performance.md, 5 Dec): HCP packings of 144 / 384 / 800 particles ran
+/// 0.90x / 1.0x / 1.29x as fast on two threads as on one, and the 508-particle paper-000 junction
+/// (d0 = 6 nm) 0.86x.
 pub const SERIAL_BELOW: usize = 600;
 
 /// The time step, absolute or relative to the critical one of eq (6).

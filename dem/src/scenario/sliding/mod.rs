@@ -62,8 +62,8 @@ use crate::sample::{RelaxConfig, SampleSpec};
 
 pub use geometry::{build, Geometry, BODY_BOTTOM_HALF, BODY_TOP_HALF};
 pub use run::{
-    interior_phase, run, run_resumable, slide, InteriorPhase, SlidingResult, WindowRecord,
-    HEIGHT_BANDS,
+    interior_phase, run, run_resumable, slide, time_to_slide, InteriorPhase, SlidingResult,
+    WindowRecord, HEIGHT_BANDS,
 };
 pub use strength::{
     flow_stress, measure_strength, FlowStress, MaterialStrength, MeasuredPeak, StrengthTests,
@@ -459,14 +459,13 @@ impl SlidingConfig {
     }
 
     /// Steps for the sliding distance at time step `dt`, with the body ramped at `ramp` (or started
-    /// at v0 with `None`): distance / v0, plus the ramp's lag v0 / (2 a) (the body covers a t^2 / 2
-    /// while ramping, v0 / (2 a) of time short of v0 t), so that every run slides its full distance.
+    /// at v0 with `None`): the time the body takes to slide it ([`time_to_slide`]: distance /
+    /// v0 plus the ramp's lag v0 / (2 a)), so that every run slides its full distance.
     pub fn steps(&self, dt: f64, ramp: Option<f64>) -> Result<u64> {
-        let v0 = self.velocity();
-        let lag = ramp.map_or(0.0, |a| v0 / (2.0 * a));
+        let distance = self.distance_over_l * self.length;
         crate::scenario::step_budget(
             "the slide (distance_over_l L at the sliding speed)",
-            ((self.distance_over_l * self.length / v0 + lag) / dt).ceil(),
+            (time_to_slide(self.velocity(), ramp, distance) / dt).ceil(),
         )
     }
 }

@@ -104,6 +104,16 @@ pub fn slide(v0: f64, ramp: Option<f64>, t: f64) -> f64 {
     }
 }
 
+/// The time the top body takes to slide `distance`, the inverse of [`slide`]: sqrt(2 d / a) while
+/// it ramps, d / v0 + v0 / (2 a) (the ramp's lag) after it, d / v0 without a ramp.
+pub fn time_to_slide(v0: f64, ramp: Option<f64>, distance: f64) -> f64 {
+    match ramp {
+        Some(a) if distance < v0 * v0 / (2.0 * a) => (2.0 * distance / a).sqrt(),
+        Some(a) => distance / v0 + v0 / (2.0 * a),
+        None => distance / v0,
+    }
+}
+
 /// The profile observer: samples binned over the current height, closed into windows.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 struct ProfileProbe {
@@ -580,5 +590,10 @@ mod tests {
         assert_eq!(slide(2.0, Some(4.0), 0.25), 0.125);
         assert_eq!(slide(2.0, Some(4.0), 0.5), 0.5);
         assert_eq!(slide(2.0, Some(4.0), 3.0), 5.5);
+        // The inverse, during the ramp and after it.
+        for d in [0.125, 0.5, 5.5] {
+            assert!((slide(2.0, Some(4.0), time_to_slide(2.0, Some(4.0), d)) - d).abs() < 1e-15);
+        }
+        assert_eq!(time_to_slide(2.0, None, 6.0), 3.0);
     }
 }

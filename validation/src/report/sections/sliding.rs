@@ -483,7 +483,8 @@ fn page(outs: &[RunOut], strengths: &[StrengthOut], profile: Profile) -> String 
         "<p>Quasi-2D box L x L x 3 d0 of paper 004 with the normal-only force (nu = 1/4), log-normal \
          sizes, two halves with a non-matching interface, the top body under p_N dragged at \
          0.1 sqrt(E/rho), brought there from rest at 0.5 tau_m / (rho L) (a velocity step would send \
-         2.4 tau_m into the sigma_m = 0.1 E sample and break it at the body's face; docs/sliding.md); E = rho = L = 1. \
+         2.4 tau_m into the sigma_m = 0.1 E sample and break it at the body's face; \
+         docs/sliding.md); E = rho = L = 1. \
          rho_TBL is the minimum of the Gaussian fitted to the Savitzky-Golay filtered density \
          profile, averaged over the steady half of the run. A TBL whose boundary lies within half a \
          diameter of a rigid body's face has reached the body (the phase paper 004 drops, label \
@@ -493,7 +494,7 @@ fn page(outs: &[RunOut], strengths: &[StrengthOut], profile: Profile) -> String 
     if profile == Profile::Quick {
         h += "<p class=\"note\">Quick profile: L = 20 d0, 5 L of sliding, 100 bins, one seed; d* = 0.2 L \
               does not enter at this d0 (d*/8 below every pair), so only the p_N and sigma_m trends \
-              are tested. The 20 d0 box also overstates tau_m (its strength test peaks 12 % above \
+              are tested. The 20 d0 box also overstates tau_m (its strength test peaks 13 % above \
               that of a box three times as large), and its coarse layer carries less than the \
               paper-size one: section 3's p_T at the shear strength is reproduced at the paper's \
               size by <code>cgdem --threads 2 sliding configs/sliding-paper-shear-band.toml</code> \
