@@ -236,11 +236,12 @@ fn the_sliding_section_reports_the_trends_of_fig_6_from_its_runs() {
         let ratio = y(panel, series, hi) / y(panel, series, lo);
         assert_eq!(ratio.to_bits(), c.measured.to_bits(), "{c:?}");
     }
-    // Two p_T rows per run, each a finite ratio: one against the measured peak tau_m, one against
-    // the flow stress after it; one measured tau_m and one tau_flow per sigma_m of the grid (0.1,
-    // 0.14, 0.2 E), each a positive fraction of sigma_m, the flow below the peak.
+    // Two p_T rows per run (the grid's five and the resolution study's 40 d0 run), each a finite
+    // ratio: one against the measured peak tau_m, one against the flow stress after it; one measured
+    // tau_m and one tau_flow per material and box (sigma_m = 0.1, 0.14, 0.2 E on 20 d0, 0.2 E on
+    // 40 d0), each a positive fraction of sigma_m, the flow below the peak.
     let section3 = claims.iter().filter(|c| c.item == "section 3");
-    for (what, n) in [("tau_m measured", 5), ("flow stress", 5)] {
+    for (what, n) in [("tau_m measured", 6), ("flow stress", 6)] {
         let pt: Vec<_> = section3
             .clone()
             .filter(|c| c.quantity.starts_with("p_T") && c.quantity.contains(what))
@@ -273,7 +274,7 @@ fn the_sliding_section_reports_the_trends_of_fig_6_from_its_runs() {
     // least three windows each, and come in pairs (tau_m and tau_flow) per run that has them.
     let interior: Vec<_> = section3
         .clone()
-        .filter(|c| c.quantity.contains("interior phase"))
+        .filter(|c| c.quantity.contains("over the interior phase"))
         .collect();
     assert_eq!(interior.len() % 2, 0, "{interior:?}");
     for c in &interior {
@@ -289,13 +290,40 @@ fn the_sliding_section_reports_the_trends_of_fig_6_from_its_runs() {
             .collect()
     };
     let (peak, flow) = (tau("tau_m"), tau("tau_flow"));
-    assert_eq!((peak.len(), flow.len()), (3, 3));
+    assert_eq!((peak.len(), flow.len()), (4, 4));
     for (p, f) in peak.iter().zip(&flow) {
         assert!(
             *p > 0.0 && *p < 1.0 && *f > 0.0 && f < p,
             "{peak:?} {flow:?}"
         );
     }
+    // The resolution study: the shear band's p_T / tau_m over the interior phase on the 20 d0 and
+    // 40 d0 boxes is the figure's two points and the two runs' own interior rows, and the claim reads
+    // the line through them at 0.01 L.
+    let panel = "shear band p_T / tau_m against d0 / L (sec. 3)";
+    let at = |x: f64| y(panel, "p_N = 0.01 E, sigma_m = 0.2 E, interior phase", x);
+    let (coarse, fine) = (at(0.05), at(0.025));
+    let row = |tag: &str| -> f64 {
+        let q = format!(
+            "p_T / tau_m over the interior phase (TBL inside the material) at p_N = 0.01 E, \
+             sigma_m = 0.2 E{tag}"
+        );
+        claims
+            .iter()
+            .find(|c| c.quantity == q)
+            .unwrap_or_else(|| panic!("no row {q}"))
+            .measured
+    };
+    assert_eq!((coarse, fine), (row(""), row(" on the 40 d0 box")));
+    let read = claims
+        .iter()
+        .find(|c| {
+            c.quantity
+                .contains("read off the line through the 20 d0 and 40 d0 boxes")
+        })
+        .expect("the resolution claim");
+    let line = coarse + (fine - coarse) * (0.01 - 0.05) / (0.025 - 0.05);
+    assert!((read.measured - line).abs() <= 1e-12, "{read:?} {line}");
     let html = std::fs::read_to_string(&w.html).unwrap();
     assert_eq!(html.matches("src=\"data:image/png;base64,").count(), 3);
     assert!(html.contains("TBL at a body from (L)") && html.contains("interior windows"));

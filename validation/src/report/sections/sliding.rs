@@ -7,7 +7,9 @@
 //! Quick profile: L = 20 d0 (the paper's 100 d0), 5 L of sliding (the paper's 50 L), 100 bins, one
 //! seed, d* = 0.2 L. At that coarse d0, d_m = d*/8 lies below every pair, so d* (gamma) does not enter
 //! the runs (eq 11 of paper 004): the quick runs test the p_N and sigma_m trends only; the d* trend
-//! needs the paper profile's d0 = 0.01 L.
+//! needs the paper profile's d0 = 0.01 L. The quick profile also runs Fig. 3b's shear band on a
+//! 40 d0 box (the resolution study): p_T / tau_m rises with L / d0, and the claim reads it at the
+//! paper's d0 = 0.01 L off the line through the two boxes.
 
 use dem::scenario::sliding::{SlidingConfig, SlidingMaterial};
 use serde::{Deserialize, Serialize};
@@ -88,33 +90,94 @@ fn grid(profile: Profile) -> Vec<(f64, f64)> {
     }
 }
 
+/// The quick profile's box, d0 = 0.05 L (L = 20 d0), and its finer one for the resolution study.
+const QUICK_D0: f64 = 0.05;
+
+/// Paper 004's own d0 / L (its L = 100 d0), where the resolution study's line is read.
+const PAPER_D0: f64 = 0.01;
+
+/// The resolution study of the quick profile: Fig. 3b's shear band (p_N = 0.01 E, sigma_m = 0.2 E)
+/// on a box of 40 d0 (d0 = 0.025 L) beside the grid's 20 d0 one, so that p_T / tau_m can be read at
+/// the paper's d0 = 0.01 L (see [`at_paper_d0`]). One more relaxation, strength job and run: about
+/// 3 minutes on one core.
+const FINE: (f64, f64, f64) = (0.01, 0.2, 0.025);
+
+/// d* of the quick profile's runs in units of their d0: 4 (d* = 0.2 L on the 20 d0 box, 0.1 L on
+/// the 40 d0 one), so that d_m = d*/8 = 0.5 d0 lies below every pair on both boxes, every pair
+/// breaks at delta_e and the two boxes hold the same discrete material (with d* fixed in L instead,
+/// gamma would enter the finer box's smaller pairs and the study would change the material with the
+/// resolution: at 60 d0 and d* = 0.2 L the sigma_m = 0.2 E layer compacts to twice rho_0,
+/// docs/sliding.md).
+const QUICK_D_STAR_OVER_D0: f64 = 4.0;
+
 fn cases(profile: Profile) -> Vec<RunCase> {
-    grid(profile)
-        .into_iter()
-        .map(|(p_n, sigma_m)| {
-            let mut c = SlidingConfig {
-                pressure: p_n,
-                material: SlidingMaterial {
-                    strength: sigma_m,
-                    surface_energy: None,
-                    d_star: Some(if profile == Profile::Quick { 0.2 } else { 0.1 }),
-                },
-                dump_frames: 0,
-                ..SlidingConfig::default()
+    let case = |(p_n, sigma_m): (f64, f64), d0_over_l: Option<f64>| {
+        let mut c = SlidingConfig {
+            pressure: p_n,
+            material: SlidingMaterial {
+                strength: sigma_m,
+                surface_energy: None,
+                d_star: Some(d0_over_l.map_or(0.1, |d0| QUICK_D_STAR_OVER_D0 * d0)),
+            },
+            dump_frames: 0,
+            ..SlidingConfig::default()
+        };
+        if let Some(d0) = d0_over_l {
+            c.d0_over_l = d0;
+            c.distance_over_l = 5.0;
+            // Five bins per d0 at 20 d0 as before, four per d0 (the paper's) on finer boxes.
+            c.bins = if d0 == QUICK_D0 {
+                100
+            } else {
+                (4.0 / d0).round() as usize
             };
-            if profile == Profile::Quick {
-                c.d0_over_l = 0.05;
-                c.distance_over_l = 5.0;
-                c.bins = 100;
-                c.windows = 20;
-                c.force_samples = 500;
-            }
-            RunCase {
-                version: VERSION,
-                sliding: c,
-            }
-        })
-        .collect()
+            c.windows = 20;
+            c.force_samples = 500;
+        }
+        RunCase {
+            version: VERSION,
+            sliding: c,
+        }
+    };
+    let quick = (profile == Profile::Quick).then_some(QUICK_D0);
+    let mut cases: Vec<RunCase> = grid(profile).into_iter().map(|g| case(g, quick)).collect();
+    if profile == Profile::Quick {
+        cases.push(case((FINE.0, FINE.1), Some(FINE.2)));
+    }
+    cases
+}
+
+/// L / d0 of a run, for the claims and tables.
+fn boxes_d0(r: &SlidingSummary) -> f64 {
+    (1.0 / r.d0_over_l).round()
+}
+
+/// Whether `r` is one of the grid's runs (the profile's box), not the resolution study's finer one.
+fn on_grid(r: &SlidingSummary, grid_d0: f64) -> bool {
+    r.d0_over_l == grid_d0
+}
+
+/// " on the 40 d0 box" for a run off the grid's box (empty on it), for the claims' wording.
+fn box_tag(r: &SlidingSummary, grid_d0: f64) -> String {
+    if on_grid(r, grid_d0) {
+        String::new()
+    } else {
+        format!(" on the {} d0 box", boxes_d0(r))
+    }
+}
+
+/// A ratio measured at two resolutions, (d0 / L, ratio) each, read off the straight line through
+/// them at d0 / L = `at`.
+///
+/// Decision (the resolution study's model): linear in d0 / L. The top body moves at v0 = 0.1
+/// sqrt(E / rho) at every resolution, so across a band of a fixed fraction of L the shear rate in
+/// the particles' own time, hence the band's inertial number gamma_dot d0 sqrt(rho / p), scales with
+/// d0 / L; the layer's agitation and the stress it gives up go with it. Measured on boxes of 20, 30,
+/// 40 and 60 d0 the shear band's p_T / tau_m lies on such a line, and the 100 d0 run lands where the
+/// line of the 20 and 40 d0 runs puts it (docs/sliding.md, "p_T against the resolution").
+fn at_paper_d0(coarse: (f64, f64), fine: (f64, f64), at: f64) -> f64 {
+    let ((x0, y0), (x1, y1)) = (coarse, fine);
+    y0 + (y1 - y0) * (at - x0) / (x1 - x0)
 }
 
 fn run(ctx: &Context) -> Result<SectionOutput> {
@@ -167,19 +230,25 @@ fn run(ctx: &Context) -> Result<SectionOutput> {
         })
     })?;
     let runs: Vec<&SlidingSummary> = outs.iter().map(|o| &o.summary).collect();
+    let grid_d0 = cases[0].sliding.d0_over_l;
     Ok(SectionOutput {
-        claims: claims(&runs),
-        figures: vec![figure(&runs)],
-        html: page(&outs, &strengths, ctx.profile),
+        claims: claims(&runs, grid_d0),
+        figures: vec![figure(&runs, grid_d0)],
+        html: page(&outs, &strengths, &jobs, ctx.profile),
         provenance: vec![],
     })
 }
 
-/// rho_TBL of the run at (p_N, sigma_m), if the grid has it.
-fn rho(runs: &[&SlidingSummary], p_n: f64, sigma_m: f64) -> Option<f64> {
+/// The run at (p_N, sigma_m) on the box with d0 / L = `d0`, if the section has it.
+fn find<'a>(
+    runs: &[&'a SlidingSummary],
+    p_n: f64,
+    sigma_m: f64,
+    d0: f64,
+) -> Option<&'a SlidingSummary> {
     runs.iter()
-        .find(|r| r.p_n == p_n && r.strength == sigma_m)
-        .map(|r| r.rho_tbl)
+        .find(|r| r.p_n == p_n && r.strength == sigma_m && r.d0_over_l == d0)
+        .copied()
 }
 
 /// What the layer's agitation says about p_T (measured in docs/sliding.md, "What lowers p_T"): the
@@ -195,9 +264,10 @@ fn agitation_note(r: &SlidingSummary) -> String {
     })
 }
 
-fn claims(runs: &[&SlidingSummary]) -> Vec<Claim> {
+fn claims(runs: &[&SlidingSummary], grid_d0: f64) -> Vec<Claim> {
     let mut c = Vec::new();
-    if let (Some(lo), Some(hi)) = (rho(runs, 0.01, 0.1), rho(runs, 0.04, 0.1)) {
+    let rho = |p_n, sigma_m| find(runs, p_n, sigma_m, grid_d0).map(|r| r.rho_tbl);
+    if let (Some(lo), Some(hi)) = (rho(0.01, 0.1), rho(0.04, 0.1)) {
         c.push(
             Claim::new(
                 "004",
@@ -210,7 +280,7 @@ fn claims(runs: &[&SlidingSummary]) -> Vec<Claim> {
             .note(format!("rho_TBL / rho_0 = {lo:.3} at 0.01 E, {hi:.3} at 0.04 E")),
         );
     }
-    if let (Some(lo), Some(hi)) = (rho(runs, 0.01, 0.1), rho(runs, 0.01, 0.2)) {
+    if let (Some(lo), Some(hi)) = (rho(0.01, 0.1), rho(0.01, 0.2)) {
         c.push(
             Claim::new(
                 "004",
@@ -241,6 +311,7 @@ fn claims(runs: &[&SlidingSummary]) -> Vec<Claim> {
             "tau_m",
             r.p_t_over_tau_m,
             "tau_m measured",
+            &box_tag(r, grid_d0),
             note,
         ));
     }
@@ -263,6 +334,7 @@ fn claims(runs: &[&SlidingSummary]) -> Vec<Claim> {
             "tau_flow",
             p_t_over_flow,
             "flow stress after the shear peak",
+            &box_tag(r, grid_d0),
             note,
         ));
     }
@@ -291,8 +363,10 @@ fn claims(runs: &[&SlidingSummary]) -> Vec<Claim> {
                     "section 3",
                     format!(
                         "{what} over the interior phase (TBL inside the material) at p_N = {} E, \
-                         sigma_m = {} E",
-                        r.p_n, r.strength
+                         sigma_m = {} E{}",
+                        r.p_n,
+                        r.strength,
+                        box_tag(r, grid_d0)
                     ),
                     1.0,
                     ratio,
@@ -307,19 +381,21 @@ fn claims(runs: &[&SlidingSummary]) -> Vec<Claim> {
             );
         }
     }
-    // The paper's own tau_m, for comparison with ours.
-    let mut seen: Vec<f64> = Vec::new();
+    c.extend(resolution_claim(runs, grid_d0));
+    // The paper's own tau_m, for comparison with ours (one per material and box).
+    let mut seen: Vec<(f64, f64)> = Vec::new();
     for r in runs {
-        if seen.contains(&r.strength) {
+        if seen.contains(&(r.strength, r.d0_over_l)) {
             continue;
         }
-        seen.push(r.strength);
+        seen.push((r.strength, r.d0_over_l));
+        let tag = box_tag(r, grid_d0);
         c.push(
             Claim::new(
                 "004",
                 "section 3",
                 format!(
-                    "tau_m / sigma_m of our material at sigma_m = {} E (paper: about 0.22)",
+                    "tau_m / sigma_m of our material at sigma_m = {} E{tag} (paper: about 0.22)",
                     r.strength
                 ),
                 0.22,
@@ -340,7 +416,7 @@ fn claims(runs: &[&SlidingSummary]) -> Vec<Claim> {
                     "004",
                     "section 3",
                     format!(
-                        "tau_flow / sigma_m of our material at sigma_m = {} E (paper's tau_m: about 0.22)",
+                        "tau_flow / sigma_m of our material at sigma_m = {} E{tag} (paper's tau_m: about 0.22)",
                         r.strength
                     ),
                     0.22,
@@ -391,12 +467,13 @@ fn boundary_note(r: &SlidingSummary) -> String {
 }
 
 /// The section-3 claim of run `r` against the shear stress `tau` ("tau_m" or "tau_flow"; `how` says
-/// which measurement), with `p_t_over_tau` = p_T / tau.
+/// which measurement, `tag` which box when it is not the grid's), with `p_t_over_tau` = p_T / tau.
 fn section3_claim(
     r: &SlidingSummary,
     tau: &str,
     p_t_over_tau: f64,
     how: &str,
+    tag: &str,
     note: String,
 ) -> Claim {
     let what = if full_contact(r) {
@@ -414,7 +491,7 @@ fn section3_claim(
         "004",
         "section 3",
         format!(
-            "{what} at p_N = {} E, sigma_m = {} E ({}; {how})",
+            "{what} at p_N = {} E, sigma_m = {} E{tag} ({}; {how})",
             r.p_n,
             r.strength,
             r.regime.label()
@@ -426,7 +503,62 @@ fn section3_claim(
     .note(note)
 }
 
-fn figure(runs: &[&SlidingSummary]) -> Figure {
+/// Paper 004 section 3's shear-band statement read at the paper's resolution: the shear band of
+/// [`FINE`] on the grid's box and on the finer one, p_T / tau_m of each over its interior phase (the
+/// paper's terms: it drops the phase after the TBL reaches a body; each box's own tau_m), and the
+/// line through them read at d0 = 0.01 L ([`at_paper_d0`]). None unless both runs exist with at
+/// least `MIN_INTERIOR` interior windows in full contact (the statement is the shear band's).
+fn resolution(runs: &[&SlidingSummary], grid_d0: f64) -> Option<[(f64, f64); 2]> {
+    let (p_n, sigma_m, fine_d0) = FINE;
+    let coarse = find(runs, p_n, sigma_m, grid_d0)?;
+    let fine = find(runs, p_n, sigma_m, fine_d0).filter(|_| fine_d0 != grid_d0)?;
+    let point = |r: &SlidingSummary| {
+        let i = r.interior.as_ref().filter(|i| {
+            i.windows >= MIN_INTERIOR && i.rho_tbl >= RegimeParams::default().full_contact
+        })?;
+        Some((r.d0_over_l, i.p_t_over_tau_m))
+    };
+    Some([point(coarse)?, point(fine)?])
+}
+
+fn resolution_claim(runs: &[&SlidingSummary], grid_d0: f64) -> Option<Claim> {
+    let [coarse, fine] = resolution(runs, grid_d0)?;
+    let at = at_paper_d0(coarse, fine, PAPER_D0);
+    Some(
+        Claim::new(
+            "004",
+            "section 3",
+            format!(
+                "p_T / tau_m in the shear band (p_N = {} E, sigma_m = {} E, interior phase) at the \
+                 paper's d0 = 0.01 L, read off the line through the {} d0 and {} d0 boxes (linear \
+                 in d0 / L)",
+                FINE.0,
+                FINE.1,
+                (1.0 / coarse.0).round(),
+                (1.0 / fine.0).round()
+            ),
+            1.0,
+            at,
+            Tolerance::Relative(NEAR),
+        )
+        .note(format!(
+            "p_T / tau_m over the interior phase = {:.3} at d0 = {} L and {:.3} at d0 = {} L, each \
+             against its own box's tau_m; the layer's inertial number at fixed v0 scales with \
+             d0 / L, and the 30 and 60 d0 boxes lie near the same line (docs/sliding.md, 'p_T \
+             against the resolution'); within 30 %",
+            coarse.1, coarse.0, fine.1, fine.0
+        )),
+    )
+}
+
+fn figure(runs: &[&SlidingSummary], grid_d0: f64) -> Figure {
+    let all = runs;
+    let on: Vec<&SlidingSummary> = runs
+        .iter()
+        .filter(|r| on_grid(r, grid_d0))
+        .copied()
+        .collect();
+    let runs = &on;
     let series = |sigma_m: f64| -> Vec<(f64, f64)> {
         let mut v: Vec<(f64, f64)> = runs
             .iter()
@@ -469,16 +601,49 @@ fn figure(runs: &[&SlidingSummary]) -> Figure {
         Kind::Reference,
         vec![(0.1, 1.0), (0.2, 1.0)],
     );
-    Figure::new(
+    let fig = Figure::new(
         "sliding-rho",
         "paper 004 Fig. 6",
         "Density of the third-body layer against the normal pressure and the strength; the paper's trends: rising with p_N, higher for a stronger material.",
     )
     .panel(by_pressure)
-    .panel(fig_b)
+    .panel(fig_b);
+    match resolution(all, grid_d0) {
+        None => fig,
+        Some([coarse, fine]) => {
+            let at = at_paper_d0(coarse, fine, PAPER_D0);
+            fig.panel(
+                Panel::new(
+                    "shear band p_T / tau_m against d0 / L (sec. 3)",
+                    "d0 / L (-)",
+                    "p_T / tau_m (-)",
+                )
+                .with(
+                    format!("p_N = {} E, sigma_m = {} E, interior phase", FINE.0, FINE.1),
+                    Kind::SimulationPoints,
+                    vec![fine, coarse],
+                )
+                .with(
+                    "line through the runs, read at the paper's d0 = 0.01 L",
+                    Kind::Reference,
+                    vec![(PAPER_D0, at), fine],
+                )
+                .with(
+                    "p_T = tau_m (paper 004 section 3)",
+                    Kind::Reference,
+                    vec![(PAPER_D0, 1.0), (coarse.0, 1.0)],
+                ),
+            )
+        }
+    }
 }
 
-fn page(outs: &[RunOut], strengths: &[StrengthOut], profile: Profile) -> String {
+fn page(
+    outs: &[RunOut],
+    strengths: &[StrengthOut],
+    jobs: &[StrengthJob],
+    profile: Profile,
+) -> String {
     let mut h = String::from(
         "<p>Quasi-2D box L x L x 3 d0 of paper 004 with the normal-only force (nu = 1/4), log-normal \
          sizes, two halves with a non-matching interface, the top body under p_N dragged at \
@@ -498,7 +663,11 @@ fn page(outs: &[RunOut], strengths: &[StrengthOut], profile: Profile) -> String 
               that of a box three times as large), and its coarse layer carries less than the \
               paper-size one: section 3's p_T at the shear strength is reproduced at the paper's \
               size by <code>cgdem --threads 2 sliding configs/sliding-paper-shear-band.toml</code> \
-              (Fig. 3b's material, about 45 minutes; docs/sliding.md).</p>\n";
+              (Fig. 3b's material, about 45 minutes; docs/sliding.md). The same shear band is also \
+              run on a 40 d0 box (d0 = 0.025 L, d* = 0.1 L = 4 d0 as on the 20 d0 box, so the same \
+              discrete material; 160 bins; its own tau_m): p_T / tau_m rises with the resolution, \
+              about linearly in d0 / L, and the line through the two boxes is read at the paper's \
+              d0 = 0.01 L (the last figure panel and its claim).</p>\n";
     }
     h += "<p>tau_m is measured, not taken from the paper: the shear patch test (paper 000 Fig. 4c) \
           on each material's own relaxed box (the sliding run's recipe, law and seed, before the cut), \
@@ -506,10 +675,10 @@ fn page(outs: &[RunOut], strengths: &[StrengthOut], profile: Profile) -> String 
           peak of sigma_xy, sigma_t the peak of the tensile test. After its peak the box flows in \
           stick-slip; tau_flow is the mean sigma_xy from 0.15 strain past the peak to the end of the \
           test (0.6 past the peak), with the saw-tooth's range beside it.</p>\n";
-    h += "<table><tr><th>sigma_m (E)</th><th>tau_m / sigma_m</th><th>at shear strain</th>\
+    h += "<table><tr><th>sigma_m (E)</th><th>L (d0)</th><th>tau_m / sigma_m</th><th>at shear strain</th>\
           <th>tau_flow / sigma_m (range)</th><th>sigma_t / sigma_m</th><th>particles</th>\
           <th>tests (s)</th></tr>\n";
-    for s in strengths {
+    for (s, job) in strengths.iter().zip(jobs) {
         let m = &s.strength;
         let flow = m.tau_flow.map_or("(test too short)".to_string(), |f| {
             format!(
@@ -520,8 +689,9 @@ fn page(outs: &[RunOut], strengths: &[StrengthOut], profile: Profile) -> String 
             )
         });
         h += &format!(
-            "<tr><td>{}</td><td>{:.3}</td><td>{:.3}</td><td>{}</td><td>{:.3}</td><td>{}</td><td>{:.0}</td></tr>\n",
+            "<tr><td>{}</td><td>{}</td><td>{:.3}</td><td>{:.3}</td><td>{}</td><td>{:.3}</td><td>{}</td><td>{:.0}</td></tr>\n",
             m.sigma_m,
+            (1.0 / job.sliding.d0_over_l).round(),
             m.tau_over_sigma_m(),
             m.shear.strain_at_peak,
             esc(&flow),
@@ -531,16 +701,17 @@ fn page(outs: &[RunOut], strengths: &[StrengthOut], profile: Profile) -> String 
         );
     }
     h += "</table>\n";
-    h += "<table><tr><th>p_N (E)</th><th>sigma_m (E)</th><th>regime</th><th>rho_TBL / rho_0</th>\
+    h += "<table><tr><th>p_N (E)</th><th>sigma_m (E)</th><th>L (d0)</th><th>regime</th><th>rho_TBL / rho_0</th>\
           <th>h_TBL / H</th><th>agitation (v0)</th><th>p_T (E)</th><th>p_T / tau_m</th>\
           <th>p_T / (tau_m rho_TBL / rho_0)</th><th>p_T / tau_flow</th><th>TBL at a body from (L)</th>\
           <th>interior windows</th><th>interior p_T / tau_m</th><th>particles</th><th>run (s)</th></tr>\n";
     for o in outs {
         let r = &o.summary;
         h += &format!(
-            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{:.3}</td><td>{:.3}</td><td>{}</td><td>{:.2e}</td><td>{:.2}</td><td>{:.2}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.0}</td></tr>\n",
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.3}</td><td>{:.3}</td><td>{}</td><td>{:.2e}</td><td>{:.2}</td><td>{:.2}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.0}</td></tr>\n",
             r.p_n,
             r.strength,
+            boxes_d0(r),
             esc(r.regime.label()),
             r.rho_tbl,
             r.h_tbl,
@@ -592,5 +763,32 @@ mod tests {
         assert!(g.contains(&(0.01, 0.2)));
         let c = cases(Profile::Quick);
         assert!(c.iter().all(|c| c.sliding.validate().is_ok()));
+        // The resolution study's run is the grid's shear band on the finer box, four bins per d0.
+        let fine = c.last().unwrap();
+        assert_eq!(
+            (fine.sliding.pressure, fine.sliding.material.strength),
+            (FINE.0, FINE.1)
+        );
+        assert_eq!((fine.sliding.d0_over_l, fine.sliding.bins), (0.025, 160));
+        // d* = 4 d0 on both boxes: the grid's 0.2 L (its cached runs' key) and 0.1 L on the finer.
+        assert_eq!(c[0].sliding.material.d_star, Some(0.2));
+        assert_eq!(fine.sliding.material.d_star, Some(0.1));
+        assert!(g.contains(&(FINE.0, FINE.1)));
+        assert!(cases(Profile::Paper)
+            .iter()
+            .all(|c| c.sliding.d0_over_l == PAPER_D0));
+    }
+
+    #[test]
+    fn the_resolution_line_is_read_where_asked() {
+        // On a line y = 0.9 - 5 x every pair of points gives the line back.
+        let y = |x: f64| 0.9 - 5.0 * x;
+        let (c, f) = ((0.05, y(0.05)), (0.025, y(0.025)));
+        for x in [0.01, 0.0, 0.05, 0.1] {
+            assert!((at_paper_d0(c, f, x) - y(x)).abs() < 1e-12);
+        }
+        // The 20 and 40 d0 shear band of docs/sliding.md (0.58 and 0.72) read at 0.01 L.
+        let at = at_paper_d0((0.05, 0.58), (0.025, 0.72), 0.01);
+        assert!((at - (0.58 + 1.6 * 0.14)).abs() < 1e-12, "{at}");
     }
 }
