@@ -173,8 +173,9 @@ fn box_tag(r: &SlidingSummary, grid_d0: f64) -> String {
 /// sqrt(E / rho) at every resolution, so across a band of a fixed fraction of L the shear rate in
 /// the particles' own time, hence the band's inertial number gamma_dot d0 sqrt(rho / p), scales with
 /// d0 / L; the layer's agitation and the stress it gives up go with it. Measured on boxes of 20, 30,
-/// 40 and 60 d0 the shear band's p_T / tau_m lies on such a line, and the 100 d0 run lands where the
-/// line of the 20 and 40 d0 runs puts it (docs/sliding.md, "p_T against the resolution").
+/// 40 and 60 d0 of the same material, the shear band's p_T / tau_m lies within 0.010 of a
+/// least-squares line in d0 / L, and the line through the 20 and 40 d0 boxes puts the 60 d0 one
+/// 0.016 low (docs/sliding.md, "p_T against the resolution").
 fn at_paper_d0(coarse: (f64, f64), fine: (f64, f64), at: f64) -> f64 {
     let ((x0, y0), (x1, y1)) = (coarse, fine);
     y0 + (y1 - y0) * (at - x0) / (x1 - x0)
