@@ -21,8 +21,8 @@ use crate::report::{
 };
 use crate::wear::samples::distinct;
 use crate::wear::sliding::{
-    box_jobs, models, run_sliding_with, run_strength_job, ShearStrength, SlidingSummary,
-    StrengthJob,
+    box_jobs, models, run_sliding_with, run_strength_job, InteriorSummary, ShearStrength,
+    SlidingSummary, StrengthJob,
 };
 use crate::Result;
 use dem::scenario::sliding::MaterialStrength;
@@ -147,9 +147,15 @@ fn cases(profile: Profile) -> Vec<RunCase> {
     cases
 }
 
-/// L / d0 of a run, for the claims and tables.
-fn boxes_d0(r: &SlidingSummary) -> f64 {
-    (1.0 / r.d0_over_l).round()
+/// L / d0 of a box given by its d0 / L, for the claims and tables.
+fn l_over_d0(d0_over_l: f64) -> f64 {
+    (1.0 / d0_over_l).round()
+}
+
+/// Whether an interior phase lies in full contact (the shear band's statement): the classifier's
+/// default threshold, which the report's runs use.
+fn in_full_contact(i: &InteriorSummary) -> bool {
+    i.rho_tbl >= RegimeParams::default().full_contact
 }
 
 /// Whether `r` is one of the grid's runs (the profile's box), not the resolution study's finer one.
@@ -162,7 +168,7 @@ fn box_tag(r: &SlidingSummary, grid_d0: f64) -> String {
     if on_grid(r, grid_d0) {
         String::new()
     } else {
-        format!(" on the {} d0 box", boxes_d0(r))
+        format!(" on the {} d0 box", l_over_d0(r.d0_over_l))
     }
 }
 
@@ -346,7 +352,7 @@ fn claims(runs: &[&SlidingSummary], grid_d0: f64) -> Vec<Claim> {
         let Some(i) = r.interior.as_ref().filter(|i| i.windows >= MIN_INTERIOR) else {
             continue;
         };
-        let full = i.rho_tbl >= RegimeParams::default().full_contact;
+        let full = in_full_contact(i);
         let against = [
             ("tau_m", Some(i.p_t_over_tau_m)),
             ("tau_flow", i.p_t_over_tau_flow),
@@ -514,9 +520,10 @@ fn resolution(runs: &[&SlidingSummary], grid_d0: f64) -> Option<[(f64, f64); 2]>
     let coarse = find(runs, p_n, sigma_m, grid_d0)?;
     let fine = find(runs, p_n, sigma_m, fine_d0).filter(|_| fine_d0 != grid_d0)?;
     let point = |r: &SlidingSummary| {
-        let i = r.interior.as_ref().filter(|i| {
-            i.windows >= MIN_INTERIOR && i.rho_tbl >= RegimeParams::default().full_contact
-        })?;
+        let i = r
+            .interior
+            .as_ref()
+            .filter(|i| i.windows >= MIN_INTERIOR && in_full_contact(i))?;
         Some((r.d0_over_l, i.p_t_over_tau_m))
     };
     Some([point(coarse)?, point(fine)?])
@@ -535,8 +542,8 @@ fn resolution_claim(runs: &[&SlidingSummary], grid_d0: f64) -> Option<Claim> {
                  in d0 / L)",
                 FINE.0,
                 FINE.1,
-                (1.0 / coarse.0).round(),
-                (1.0 / fine.0).round()
+                l_over_d0(coarse.0),
+                l_over_d0(fine.0)
             ),
             1.0,
             at,
@@ -553,15 +560,14 @@ fn resolution_claim(runs: &[&SlidingSummary], grid_d0: f64) -> Option<Claim> {
 }
 
 fn figure(runs: &[&SlidingSummary], grid_d0: f64) -> Figure {
-    let all = runs;
-    let on: Vec<&SlidingSummary> = runs
+    // Fig. 6's panels hold the grid's runs only (the resolution study's finer box has its own).
+    let grid: Vec<&SlidingSummary> = runs
         .iter()
         .filter(|r| on_grid(r, grid_d0))
         .copied()
         .collect();
-    let runs = &on;
     let series = |sigma_m: f64| -> Vec<(f64, f64)> {
-        let mut v: Vec<(f64, f64)> = runs
+        let mut v: Vec<(f64, f64)> = grid
             .iter()
             .filter(|r| r.strength == sigma_m)
             .map(|r| (r.p_n, r.rho_tbl))
@@ -585,7 +591,7 @@ fn figure(runs: &[&SlidingSummary], grid_d0: f64) -> Figure {
         Kind::Reference,
         vec![(0.01, 1.0), (0.04, 1.0)],
     );
-    let mut by_strength: Vec<(f64, f64)> = runs
+    let mut by_strength: Vec<(f64, f64)> = grid
         .iter()
         .filter(|r| r.p_n == 0.01)
         .map(|r| (r.strength, r.rho_tbl))
@@ -609,7 +615,7 @@ fn figure(runs: &[&SlidingSummary], grid_d0: f64) -> Figure {
     )
     .panel(by_pressure)
     .panel(fig_b);
-    match resolution(all, grid_d0) {
+    match resolution(runs, grid_d0) {
         None => fig,
         Some([coarse, fine]) => {
             let at = at_paper_d0(coarse, fine, PAPER_D0);
@@ -712,7 +718,7 @@ fn page(
             "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.3}</td><td>{:.3}</td><td>{}</td><td>{:.2e}</td><td>{:.2}</td><td>{:.2}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.0}</td></tr>\n",
             r.p_n,
             r.strength,
-            boxes_d0(r),
+            l_over_d0(r.d0_over_l),
             esc(r.regime.label()),
             r.rho_tbl,
             r.h_tbl,
