@@ -407,7 +407,7 @@ impl Problem for PatchProblem {
             .map(|p| self.residuals_of(p))
             .collect::<Result<Vec<_>, _>>()?;
         let m = Measured::mean_of(rows);
-        tracing::info!(
+        tracing::info!(target: "stage",
             x = ?x,
             r = ?m.r,
             noise = ?m.noise,

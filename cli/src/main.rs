@@ -32,8 +32,10 @@ struct Cli {
     /// 600 particles steps on one thread, which is faster there).
     #[arg(long, global = true, default_value_t = 0)]
     threads: usize,
-    /// More log lines on stderr: -v for each stage's progress, -vv for every detail (`RUST_LOG`
-    /// overrides). Quiet by default: long stages show a progress bar instead.
+    /// More log lines on stderr: -v every stage's info, -vv every detail (`RUST_LOG` overrides).
+    /// By default warnings and progress: a bar with an ETA on a terminal (plain lines otherwise),
+    /// and the periodic lines of long stages without a bar (relaxations, patch tests, calibration
+    /// iterations; `cgdem report` shows only its bars).
     #[arg(short, long, global = true, action = clap::ArgAction::Count)]
     verbose: u8,
     #[command(subcommand)]
@@ -83,11 +85,17 @@ fn main() -> Result<()> {
     let cli = Cli::parse();
     // An MD worker's stderr is its job's `worker.log`, the record of the run: it logs every stage.
     let worker = matches!(cli.command, Command::MdWorker(_));
-    init_logs(if worker {
-        cli.verbose.max(1)
-    } else {
-        cli.verbose
-    });
+    // The report runs many cases side by side under its own bars: their stages' lines would
+    // interleave, so it shows them only with -v.
+    let stages = !matches!(cli.command, Command::Report(_));
+    init_logs(
+        if worker {
+            cli.verbose.max(1)
+        } else {
+            cli.verbose
+        },
+        stages,
+    );
     // An MD worker keeps the default Ctrl-C behaviour (the process ends at once): LAMMPS cannot
     // stop mid-run cleanly, and the stages it finished are already on disk (md_bridge::stages).
     if !matches!(cli.command, Command::MdWorker(_)) {
@@ -114,12 +122,19 @@ fn main() -> Result<()> {
     }
 }
 
-/// Logs on stderr: warnings only by default, `-v` info, `-vv` debug (`RUST_LOG` wins when set);
-/// colour escapes only when stderr is a terminal.
-fn init_logs(verbose: u8) {
+/// Logs on stderr: by default warnings and the progress of long runs (a bar's lines off a terminal,
+/// and with `stages` the periodic lines of long stages that have no bar: a relaxation's phases, a
+/// patch test's strain, a calibration's iterations), `-v` every info line, `-vv` debug (`RUST_LOG`
+/// wins when set); colour escapes only when stderr is a terminal.
+fn init_logs(verbose: u8, stages: bool) {
     use std::io::IsTerminal;
+    let quiet = if stages {
+        "warn,progress=info,stage=info"
+    } else {
+        "warn,progress=info"
+    };
     let level = match verbose {
-        0 => "warn",
+        0 => quiet,
         1 => "info",
         _ => "debug",
     };
@@ -129,7 +144,7 @@ fn init_logs(verbose: u8) {
                 .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new(level)),
         )
         .with_ansi(std::io::stderr().is_terminal())
-        .with_writer(std::io::stderr)
+        .with_writer(|| progress::LogWriter)
         .init();
 }
 

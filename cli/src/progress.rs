@@ -1,16 +1,51 @@
 //! Progress of long runs (the steps of a junction, the cases of a report): a bar with an ETA on a
 //! terminal, a few plain lines otherwise (logs and CI keep no escape codes and no stream of redraws).
+//!
+//! Log lines and bars share standard error: every line is written through [`LogWriter`], which
+//! lifts the bars while it writes, so neither overwrites the other. Two log targets carry progress
+//! and are shown without `-v` (see `main::init_logs`): [`TARGET`], a bar's plain lines off a
+//! terminal, and `stage`, the periodic lines of the library's long stages that have no bar (a
+//! relaxation's phases, a patch test's strain and stress, a calibration's iterations).
 
-use std::io::IsTerminal;
+use std::io::{IsTerminal, Write};
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{LazyLock, OnceLock};
 
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
+
+/// The log target of a bar's plain lines when standard error is not a terminal.
+pub const TARGET: &str = "progress";
+
+/// Every bar on the terminal, drawn together below the log lines.
+static BARS: LazyLock<MultiProgress> = LazyLock::new(MultiProgress::new);
+
+/// Standard error for the log: each line is written with the bars lifted.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct LogWriter;
+
+impl Write for LogWriter {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        BARS.suspend(|| std::io::stderr().write(buf))
+    }
+
+    fn write_all(&mut self, buf: &[u8]) -> std::io::Result<()> {
+        BARS.suspend(|| std::io::stderr().write_all(buf))
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        std::io::stderr().flush()
+    }
+}
 
 /// A progress bar over a count of `unit`s, shared between threads.
 #[derive(Debug)]
 pub struct Bar {
-    bar: Option<ProgressBar>,
+    /// The terminal's bar, made at the first update (so that a stage that runs before the counted
+    /// one, such as a sliding run's strength tests, does not sit under an empty bar), or None off a
+    /// terminal.
+    bar: OnceLock<Option<ProgressBar>>,
     name: String,
+    unit: String,
     done: AtomicU64,
     total: AtomicU64,
     /// Last tenth reported when not on a terminal.
@@ -18,26 +53,35 @@ pub struct Bar {
 }
 
 impl Bar {
-    /// A bar named `name`; hidden when standard error is not a terminal (then every tenth is logged).
+    /// A bar named `name`, drawn on a terminal; off a terminal every tenth is a log line.
     pub fn new(name: &str, unit: &str) -> Self {
-        let bar = std::io::stderr().is_terminal().then(|| {
-            let b = ProgressBar::new(0);
-            let template = format!(
-                "{name} [{{bar:40}}] {{pos}}/{{len}} {unit} ({{percent}} %, {{elapsed_precise}}, ETA {{eta}})"
-            );
-            if let Ok(style) = ProgressStyle::with_template(&template) {
-                b.set_style(style.progress_chars("=> "));
-            }
-            b.enable_steady_tick(std::time::Duration::from_millis(500));
-            b
-        });
         Bar {
-            bar,
+            bar: OnceLock::new(),
             name: name.into(),
+            unit: unit.into(),
             done: AtomicU64::new(0),
             total: AtomicU64::new(0),
             logged: AtomicU64::new(0),
         }
+    }
+
+    fn drawn(&self) -> Option<&ProgressBar> {
+        self.bar
+            .get_or_init(|| {
+                std::io::stderr().is_terminal().then(|| {
+                    let b = BARS.add(ProgressBar::new(0));
+                    let template = format!(
+                        "{} [{{bar:40}}] {{pos}}/{{len}} {} ({{percent}} %, {{elapsed_precise}}, ETA {{eta}})",
+                        self.name, self.unit
+                    );
+                    if let Ok(style) = ProgressStyle::with_template(&template) {
+                        b.set_style(style.progress_chars("=> "));
+                    }
+                    b.enable_steady_tick(std::time::Duration::from_millis(500));
+                    b
+                })
+            })
+            .as_ref()
     }
 
     /// `done` of `total`. A first call with `done > 0` (a resumed run, cached cases) starts the ETA
@@ -45,7 +89,7 @@ impl Bar {
     pub fn update(&self, done: u64, total: u64) {
         let first = self.total.swap(total, Ordering::Relaxed) == 0;
         self.done.store(done, Ordering::Relaxed);
-        match &self.bar {
+        match self.drawn() {
             Some(b) => {
                 b.set_length(total);
                 b.set_position(done);
@@ -56,7 +100,7 @@ impl Bar {
             None => {
                 let tenth = (10 * done).checked_div(total).unwrap_or(10);
                 if tenth > self.logged.fetch_max(tenth, Ordering::Relaxed) {
-                    tracing::info!("{}: {} %", self.name, 10 * tenth);
+                    tracing::info!(target: TARGET, "{}: {} % ({done} of {total} {})", self.name, 10 * tenth, self.unit);
                 }
             }
         }
@@ -70,8 +114,9 @@ impl Bar {
 
     /// Removes the bar.
     pub fn finish(&self) {
-        if let Some(b) = &self.bar {
+        if let Some(Some(b)) = self.bar.get() {
             b.finish_and_clear();
+            BARS.remove(b);
         }
     }
 }
@@ -96,6 +141,15 @@ mod tests {
         assert_eq!(bar.done.load(Ordering::Relaxed), 9);
         assert_eq!(bar.total.load(Ordering::Relaxed), 10);
         assert_eq!(bar.logged.load(Ordering::Relaxed), 9);
+        bar.finish();
+    }
+
+    #[test]
+    fn a_bar_is_made_at_its_first_update_not_before() {
+        let bar = Bar::new("steps", "steps");
+        assert!(bar.bar.get().is_none());
+        bar.update(0, 5);
+        assert!(bar.bar.get().is_some());
         bar.finish();
     }
 }

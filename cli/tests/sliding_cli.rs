@@ -152,3 +152,43 @@ fn paper_size_shear_band_carries_tau_m() {
     let ratio = s["p_t_over_tau_m"].as_f64().unwrap();
     assert!((ratio - 1.0).abs() <= 0.3, "p_T / tau_m = {ratio}");
 }
+
+/// A single run's long stages show their progress without `-v` (off a terminal as plain lines): the
+/// relaxation, the strength tests before the run (a paper-size box spends half an hour there) and
+/// the run's own tenths; the normal-only law's shear test has no target, so no ratio to one.
+#[test]
+fn a_single_run_logs_the_progress_of_every_stage_by_default() {
+    let dir = scratch("sliding-progress");
+    let cfg = dir.join("one.toml");
+    let single = GRID
+        .split("[[grid]]")
+        .next()
+        .unwrap()
+        .replace("dump_frames = 0", "dump_frames = 0\npressure = 0.01")
+        + "[sliding.material]\nstrength = 0.1\nd_star = 0.4\n";
+    std::fs::write(&cfg, single).unwrap();
+    let out = dir.join("out");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_cgdem"))
+        .args([
+            "sliding",
+            cfg.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .env_remove("RUST_LOG")
+        .output()
+        .unwrap();
+    let err = text(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    for line in [
+        "stage: relaxation phase 1",
+        "stage: relaxed",
+        "stage: strength test mode=Shear",
+        "stage: strength test mode=Tensile",
+        "progress: sliding: 100 %",
+    ] {
+        assert!(err.contains(line), "no '{line}' in:\n{err}");
+    }
+    assert!(!err.contains("inf"), "{err}");
+    assert!(out.join("summary.json").exists());
+}

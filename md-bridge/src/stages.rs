@@ -113,7 +113,7 @@ impl Stages {
         if let Some(v) = self.finished.get(name) {
             match serde_json::from_value::<StageFile<T>>(v.clone()) {
                 Ok(f) if f.stage == name => {
-                    tracing::info!(
+                    tracing::info!(target: "stage",
                         "stage {name}: resumed from its stage file (ran {:.1} s)",
                         f.seconds
                     );
@@ -129,7 +129,7 @@ impl Stages {
         let started = Instant::now();
         let value = compute()?;
         let seconds = started.elapsed().as_secs_f64();
-        tracing::info!("stage {name}: done in {seconds:.1} s");
+        tracing::info!(target: "stage", "stage {name}: done in {seconds:.1} s");
         if let (Some(dir), true) = (&self.dir, self.writer) {
             let file = StageFile {
                 stage: name.to_owned(),

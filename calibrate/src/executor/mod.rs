@@ -164,7 +164,7 @@ impl<'a, P: Problem> Executor<'a, P> {
                         expected: self.ev.fingerprint.clone(),
                     });
                 }
-                tracing::info!(iteration = cp.state.iteration, "resuming from checkpoint");
+                tracing::info!(target: "stage", iteration = cp.state.iteration, "resuming from checkpoint");
                 let mut cp = cp;
                 self.seconds_before = cp.state.wall_seconds;
                 if matches!(cp.state.status, Status::Converged | Status::MaxIterations) {
@@ -320,7 +320,7 @@ impl<'a, P: Problem> Executor<'a, P> {
             evaluations: st.evaluations,
             seconds: self.wall_seconds(),
         };
-        tracing::info!(
+        tracing::info!(target: "stage",
             iteration = rec.iteration,
             accepted,
             cost = %dem::io::Sig(cost, 4),

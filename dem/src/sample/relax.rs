@@ -268,7 +268,7 @@ pub fn relax_resumable(
     let (mut sim, mut worst, seconds) = match saved {
         Some(p) => {
             let sim = Simulation::from_checkpoint(p.sim, par)?;
-            tracing::info!(
+            tracing::info!(target: "stage",
                 step = sim.step_count(),
                 "relaxation resumed from its progress file"
             );
@@ -307,7 +307,7 @@ pub fn relax_resumable(
     let mut converged = false;
     let outcome: Result<()> = (|| {
         if sim.step_count() < p1 {
-            tracing::info!(
+            tracing::info!(target: "stage",
                 particles = n,
                 steps = cfg.phase1_steps,
                 "relaxation phase 1: repulsion, c = {} c_c",
@@ -351,7 +351,7 @@ pub fn relax_resumable(
                 "relaxation phase 2 check"
             );
             if steps2.is_multiple_of(50 * cfg.check_every) {
-                tracing::info!(step = steps2, max_stress_over_e = %Sig(w, 3), "relaxation phase 2");
+                tracing::info!(target: "stage", step = steps2, max_stress_over_e = %Sig(w, 3), "relaxation phase 2");
             }
             if w < cfg.stress_tolerance {
                 converged = true;
@@ -375,7 +375,7 @@ pub fn relax_resumable(
     if let Err(e) = outcome {
         if let (DemError::Interrupted { .. }, Some(f)) = (&e, progress) {
             save(&sim, worst, f)?;
-            tracing::info!(path = %f.path.display(), "relaxation progress saved: rerun to continue");
+            tracing::info!(target: "stage", path = %f.path.display(), "relaxation progress saved: rerun to continue");
         }
         return Err(e);
     }
@@ -431,7 +431,7 @@ pub fn relax_resumable(
         mass_factor,
         wall_seconds: seconds + t0.elapsed().as_secs_f64(),
     };
-    tracing::info!(
+    tracing::info!(target: "stage",
         steps = steps2,
         converged,
         volume_fraction = %Sig(report.volume_fraction, 4),

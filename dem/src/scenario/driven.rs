@@ -152,7 +152,7 @@ pub fn run_resumable<R: Recorders>(
                 // Frames written after the last save are written again by the resumed run.
                 d.truncate_to_recorded()?;
             }
-            tracing::info!(
+            tracing::info!(target: "stage",
                 step = sim.step_count(),
                 "{name} run resumed from its progress file"
             );
@@ -185,7 +185,7 @@ pub fn run_resumable<R: Recorders>(
             if let (DemError::Interrupted { .. }, Some(f)) = (&e, progress) {
                 // The failed step left the state of the previous step boundary, as every observer saw it.
                 save(&mut st, sim, f)?;
-                tracing::info!(path = %f.path.display(), "{name} progress saved: rerun to continue");
+                tracing::info!(target: "stage", path = %f.path.display(), "{name} progress saved: rerun to continue");
             }
             return Err(e);
         }

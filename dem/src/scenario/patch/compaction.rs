@@ -188,7 +188,7 @@ pub fn compaction(
         (exy, compaction) = (x, loaded - y);
         largest = largest.max(compaction);
         if steps % every < cfg.record_every {
-            tracing::info!(step = steps, shear_strain = %Sig(exy, 4), compaction = %Sig(compaction, 4), "compaction test");
+            tracing::info!(target: "stage", step = steps, shear_strain = %Sig(exy, 4), compaction = %Sig(compaction, 4), "compaction test");
         }
         if largest > cfg.max_compaction {
             break;
@@ -216,6 +216,6 @@ pub fn compaction(
         wall_seconds: t0.elapsed().as_secs_f64(),
         curve,
     };
-    tracing::info!(compaction = %Sig(res.compaction, 4), largest = %Sig(largest, 4), collapsed = res.collapsed, friction = %Sig(friction, 3), steps, seconds = %Sig(res.wall_seconds, 3), "compaction test");
+    tracing::info!(target: "stage", compaction = %Sig(res.compaction, 4), largest = %Sig(largest, 4), collapsed = res.collapsed, friction = %Sig(friction, 3), steps, seconds = %Sig(res.wall_seconds, 3), "compaction test");
     Ok(res)
 }

@@ -235,11 +235,11 @@ pub fn strength_resumable(
     let mut st = match saved {
         Some(mut p) => {
             if let Some(mut done) = p.done.take() {
-                tracing::info!(mode = ?cfg.mode, "strength test: finished result taken from its progress file");
+                tracing::info!(target: "stage", mode = ?cfg.mode, "strength test: finished result taken from its progress file");
                 done.curve = p.curve;
                 return Ok(done);
             }
-            tracing::info!(mode = ?cfg.mode, step = p.steps + p.in_record, "strength test resumed from its progress file");
+            tracing::info!(target: "stage", mode = ?cfg.mode, step = p.steps + p.in_record, "strength test resumed from its progress file");
             p
         }
         None => {
@@ -316,7 +316,7 @@ pub fn strength_resumable(
         }
         let peak = st.peak.unwrap_or(value);
         if st.steps % every < cfg.record_every {
-            tracing::info!(mode = ?cfg.mode, step = st.steps, strain = %Sig(strain, 4), stress = %Sig(value, 4), peak = %Sig(peak, 4), "strength test");
+            tracing::info!(target: "stage", mode = ?cfg.mode, step = st.steps, strain = %Sig(strain, 4), stress = %Sig(value, 4), peak = %Sig(peak, 4), "strength test");
         }
         let past_peak = strain > st.peak_strain && peak > 0.0;
         st.low = if past_peak && value.abs() < cfg.stop_below * peak {
@@ -342,7 +342,7 @@ pub fn strength_resumable(
             // failure keeps the last periodic save, made from a healthy state.)
             if let (DemError::Interrupted { .. }, Some(f)) = (&e, progress) {
                 save_progress(f, &key, &mut st, &rig, t0)?;
-                tracing::info!(path = %f.path.display(), "strength test progress saved: rerun to continue");
+                tracing::info!(target: "stage", path = %f.path.display(), "strength test progress saved: rerun to continue");
             }
             return Err(e);
         }
@@ -385,7 +385,13 @@ pub fn strength_resumable(
         st.done = Some(res.clone());
         save_progress(f, &key, &mut st, &rig, t0)?;
     }
-    tracing::info!(mode = ?cfg.mode, strength = %Sig(peak, 4), ratio = %Sig(res.ratio, 4), steps, seconds = %Sig(res.wall_seconds, 3), "strength test");
+    // A law without a shear strength (the normal-only one) has no target to be a ratio of.
+    let of_target = if target > 0.0 {
+        Sig(res.ratio, 4).to_string()
+    } else {
+        "-".into()
+    };
+    tracing::info!(target: "stage", mode = ?cfg.mode, strength = %Sig(peak, 4), of_target = %of_target, steps, seconds = %Sig(res.wall_seconds, 3), "strength test");
     Ok(res)
 }
 

@@ -157,7 +157,7 @@ pub fn run_suite(suite: &PatchSuite, out: Option<&Path>, par: Parallelism) -> Re
         None => (Vec::new(), String::new()),
     };
     if !done.is_empty() {
-        tracing::info!(
+        tracing::info!(target: "stage",
             cases = done.len(),
             "continuing the campaign of {report_path}: its finished cases are reused"
         );
@@ -219,7 +219,7 @@ pub fn run_suite(suite: &PatchSuite, out: Option<&Path>, par: Parallelism) -> Re
                     Some(v) if base_d0.is_some() => suite.sample.with_d0(*v)?,
                     _ => suite.sample.clone(),
                 };
-                tracing::info!(case = k, of = total, d0_over_dc = ?d0, nu, s, "patch case");
+                tracing::info!(target: "stage", case = k, of = total, d0_over_dc = ?d0, nu, s, "patch case");
                 let t = std::time::Instant::now();
                 // A relaxed sample is kept beside the report until its case is reported, so that an
                 // interrupted case does not relax it again (relaxation is deterministic: same bits).
@@ -230,7 +230,7 @@ pub fn run_suite(suite: &PatchSuite, out: Option<&Path>, par: Parallelism) -> Re
                     .and_then(|f| progress::load::<(Sample, f64)>(f, &sample_key));
                 let (sample, sample_seconds) = match kept {
                     Some(kept) => {
-                        tracing::info!(case = k, "sample taken from its progress file");
+                        tracing::info!(target: "stage", case = k, "sample taken from its progress file");
                         kept
                     }
                     None => {

@@ -114,7 +114,7 @@ pub fn run_scratch_load(
     let touch = rig.st.surface.top() + q.reach;
     let mut pr = match file.and_then(|f| progress::load::<Progress>(&f.path, &key)) {
         Some(p) => {
-            tracing::info!(step = p.rig.step, "scratch resumed from its progress file");
+            tracing::info!(target: "stage", step = p.rig.step, "scratch resumed from its progress file");
             p
         }
         None => Progress {
