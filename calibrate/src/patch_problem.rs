@@ -407,10 +407,15 @@ impl Problem for PatchProblem {
             .map(|p| self.residuals_of(p))
             .collect::<Result<Vec<_>, _>>()?;
         let m = Measured::mean_of(rows);
+        // Four significant digits: a log line to read, not a record (history.csv keeps the bits).
+        let short = |v: &[f64]| {
+            let parts: Vec<String> = v.iter().map(|x| dem::io::Sig(*x, 4).to_string()).collect();
+            format!("[{}]", parts.join(", "))
+        };
         tracing::info!(target: "stage",
-            x = ?x,
-            r = ?m.r,
-            noise = ?m.noise,
+            x = %short(x),
+            r = %short(&m.r),
+            noise = %short(&m.noise),
             samples = m.samples.len(),
             "evaluation"
         );
