@@ -65,11 +65,12 @@ impl Bar {
         }
     }
 
-    fn drawn(&self) -> Option<&ProgressBar> {
+    /// The terminal's bar, made over `total` at the first call.
+    fn drawn(&self, total: u64) -> Option<&ProgressBar> {
         self.bar
             .get_or_init(|| {
                 std::io::stderr().is_terminal().then(|| {
-                    let b = BARS.add(ProgressBar::new(0));
+                    let b = BARS.add(ProgressBar::new(total));
                     let template = format!(
                         "{} [{{bar:40}}] {{pos}}/{{len}} {} ({{percent}} %, {{elapsed_precise}}, ETA {{eta}})",
                         self.name, self.unit
@@ -89,7 +90,7 @@ impl Bar {
     pub fn update(&self, done: u64, total: u64) {
         let first = self.total.swap(total, Ordering::Relaxed) == 0;
         self.done.store(done, Ordering::Relaxed);
-        match self.drawn() {
+        match self.drawn(total) {
             Some(b) => {
                 b.set_length(total);
                 b.set_position(done);
