@@ -412,7 +412,8 @@ impl Problem for PatchProblem {
             let parts: Vec<String> = v.iter().map(|x| dem::io::Sig(*x, 4).to_string()).collect();
             format!("[{}]", parts.join(", "))
         };
-        tracing::info!(target: "stage",
+        tracing::info!(
+            target: "stage",
             x = %short(x),
             r = %short(&m.r),
             noise = %short(&m.noise),

@@ -95,7 +95,8 @@ pub fn calibrate(
     let verification = if cfg.verification.skip || stop_after.is_some() {
         None
     } else {
-        tracing::info!(target: "stage",
+        tracing::info!(
+            target: "stage",
             samples = cfg.verification.samples.len(),
             "verifying the card on fresh samples"
         );

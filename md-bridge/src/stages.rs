@@ -113,7 +113,8 @@ impl Stages {
         if let Some(v) = self.finished.get(name) {
             match serde_json::from_value::<StageFile<T>>(v.clone()) {
                 Ok(f) if f.stage == name => {
-                    tracing::info!(target: "stage",
+                    tracing::info!(
+                        target: "stage",
                         "stage {name}: resumed from its stage file (ran {:.1} s)",
                         f.seconds
                     );

@@ -320,7 +320,8 @@ impl<'a, P: Problem> Executor<'a, P> {
             evaluations: st.evaluations,
             seconds: self.wall_seconds(),
         };
-        tracing::info!(target: "stage",
+        tracing::info!(
+            target: "stage",
             iteration = rec.iteration,
             accepted,
             cost = %dem::io::Sig(cost, 4),

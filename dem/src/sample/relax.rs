@@ -268,7 +268,8 @@ pub fn relax_resumable(
     let (mut sim, mut worst, seconds) = match saved {
         Some(p) => {
             let sim = Simulation::from_checkpoint(p.sim, par)?;
-            tracing::info!(target: "stage",
+            tracing::info!(
+                target: "stage",
                 step = sim.step_count(),
                 "relaxation resumed from its progress file"
             );
@@ -307,7 +308,8 @@ pub fn relax_resumable(
     let mut converged = false;
     let outcome: Result<()> = (|| {
         if sim.step_count() < p1 {
-            tracing::info!(target: "stage",
+            tracing::info!(
+                target: "stage",
                 particles = n,
                 steps = cfg.phase1_steps,
                 "relaxation phase 1: repulsion, c = {} c_c",
@@ -431,7 +433,8 @@ pub fn relax_resumable(
         mass_factor,
         wall_seconds: seconds + t0.elapsed().as_secs_f64(),
     };
-    tracing::info!(target: "stage",
+    tracing::info!(
+        target: "stage",
         steps = steps2,
         converged,
         volume_fraction = %Sig(report.volume_fraction, 4),

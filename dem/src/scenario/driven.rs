@@ -152,7 +152,8 @@ pub fn run_resumable<R: Recorders>(
                 // Frames written after the last save are written again by the resumed run.
                 d.truncate_to_recorded()?;
             }
-            tracing::info!(target: "stage",
+            tracing::info!(
+                target: "stage",
                 step = sim.step_count(),
                 "{name} run resumed from its progress file"
             );

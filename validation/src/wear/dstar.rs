@@ -261,7 +261,8 @@ pub fn search(
         match next_step(&settings, &probes, rounds)? {
             Step::Done { converged, reason } => break (converged, reason),
             Step::Probe(sizes) => {
-                tracing::info!(target: "stage",
+                tracing::info!(
+                    target: "stage",
                     round = rounds + 1,
                     ?sizes,
                     runs = sizes.len() * seeds.len(),
@@ -432,7 +433,8 @@ fn measure(
     }
     let t = std::time::Instant::now();
     let (sample, _) = relaxed_sample(samples, cfg, material, par)?;
-    tracing::info!(target: "stage",
+    tracing::info!(
+        target: "stage",
         particles = sample.particles.len(),
         "measuring the material on the search's recipe"
     );

@@ -249,7 +249,8 @@ pub fn run_strength_job(
     }
     write_atomic(&dir.join("strength.csv"), csv.as_bytes())?;
     draw_strength(&dir.join("strength.png"), &m)?;
-    tracing::info!(target: "stage",
+    tracing::info!(
+        target: "stage",
         sigma_m = cfg.material.strength,
         tau_m = m.tau_m,
         tau_over_sigma_m = m.tau_over_sigma_m(),

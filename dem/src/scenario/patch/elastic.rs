@@ -193,7 +193,8 @@ pub fn elastic(
         wall_seconds: t0.elapsed().as_secs_f64(),
         curve,
     };
-    tracing::info!(target: "stage",
+    tracing::info!(
+        target: "stage",
         e = %Sig(res.young_modulus, 4),
         nu = %Sig(res.poisson_ratio, 4),
         steps,

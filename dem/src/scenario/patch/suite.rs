@@ -157,7 +157,8 @@ pub fn run_suite(suite: &PatchSuite, out: Option<&Path>, par: Parallelism) -> Re
         None => (Vec::new(), String::new()),
     };
     if !done.is_empty() {
-        tracing::info!(target: "stage",
+        tracing::info!(
+            target: "stage",
             cases = done.len(),
             "continuing the campaign of {report_path}: its finished cases are reused"
         );
