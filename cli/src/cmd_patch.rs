@@ -116,11 +116,11 @@ pub fn run(args: PatchArgs, threads: usize) -> Result<()> {
         let t = c
             .tensile
             .as_ref()
-            .map(|r| format!(" tensile {:.4} ({:.1} %)", r.strength, 100.0 * r.ratio));
+            .map(|r| format!(" tensile {:.4}{}", r.strength, of_target(r.ratio)));
         let s = c
             .shear
             .as_ref()
-            .map(|r| format!(" shear {:.4} ({:.1} %)", r.strength, 100.0 * r.ratio));
+            .map(|r| format!(" shear {:.4}{}", r.strength, of_target(r.ratio)));
         let co = c.compaction.as_ref().map(|r| {
             format!(
                 " compaction under shear {:.2} % (largest {:.2} %{}) at strain {:.2}, friction {:.2}",
@@ -180,6 +180,11 @@ pub fn run_sample(args: SampleArgs, threads: usize) -> Result<()> {
         println!("{}", serde_json::to_string_pretty(r)?);
     }
     Ok(())
+}
+
+/// " (x.x %)" of a strength's target, or nothing where the law has none.
+fn of_target(ratio: Option<f64>) -> String {
+    ratio.map_or(String::new(), |r| format!(" ({:.1} %)", 100.0 * r))
 }
 
 #[cfg(test)]

@@ -50,9 +50,11 @@ fn amorphous_poisson_ratio_and_strengths_at_l_10() {
         par,
     )
     .unwrap();
+    // The cohesive law has a target in both modes.
+    let (tr, sr) = (t.ratio.unwrap(), s.ratio.unwrap());
     println!(
-        "E {:.4} nu {:.4} tensile {:.4} ({:.3}) shear {:.4} ({:.3}) fracture {:?}",
-        e.young_modulus, e.poisson_ratio, t.strength, t.ratio, s.strength, s.ratio, t.fracture
+        "E {:.4} nu {:.4} tensile {:.4} ({tr:.3}) shear {:.4} ({sr:.3}) fracture {:?}",
+        e.young_modulus, e.poisson_ratio, t.strength, s.strength, t.fracture
     );
     // Paper: nu ~ 0.20 for a target of 0.15, strengths at 50 % / 56 % of target. Measured here (L = 10
     // and 20 d0 alike): nu 0.156, tensile 69 % / 64 %, shear 87 % / 85 % (docs/patch-tests.md discusses
@@ -63,9 +65,9 @@ fn amorphous_poisson_ratio_and_strengths_at_l_10() {
         "{e:?}"
     );
     assert!(e.young_modulus > 0.9 && e.young_modulus < 1.35, "{e:?}");
-    assert!(t.ratio > 0.5 && t.ratio < 0.8, "{t:?}");
-    assert!(s.ratio > 0.6 && s.ratio < 0.95, "{s:?}");
-    assert!(t.ratio < s.ratio);
+    assert!(tr > 0.5 && tr < 0.8, "{t:?}");
+    assert!(sr > 0.6 && sr < 0.95, "{s:?}");
+    assert!(tr < sr);
 }
 
 /// Section 3.3 / A.4 (Fig. A.9): at one L, a finer discretisation keeps the coarse sample's strength when

@@ -138,3 +138,43 @@ fn tests_with_the_wrong_mode_are_refused() {
     let e = measure_strength(&empty, &c, &t, Parallelism::Sequential, None).unwrap_err();
     assert!(e.to_string().contains("mode"), "{e}");
 }
+
+/// A finished shear test of the normal-only law (no shear target: its ratio to one is undefined)
+/// keeps its result in its progress file: a second call takes it from there, to the bit and with
+/// the first call's wall time, instead of running the test again (a paper-size box spends half an
+/// hour in it, and a sliding run killed during the tensile test that follows resumes this way).
+#[test]
+fn a_finished_normal_only_shear_test_is_taken_from_its_progress_file() {
+    let c = cfg(0.1);
+    let relaxed = sample(&c);
+    let mut shear = StrengthTests::default().shear;
+    (shear.post_peak_strain, shear.max_strain) = (0.05, 0.3);
+    let dir = std::env::temp_dir().join(format!("cgdem_normal_only_shear_{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    let file = dem::scenario::patch::ProgressFile::new(dir.join("shear.progress.json"));
+    let model = c.model().unwrap();
+    let run = || {
+        dem::scenario::patch::strength_resumable(
+            &relaxed,
+            &model,
+            &shear,
+            Parallelism::Sequential,
+            Some(&file),
+        )
+        .unwrap()
+    };
+    let first = run();
+    assert_eq!(
+        first.target_strength, 0.0,
+        "the normal-only law has no shear target"
+    );
+    assert_eq!(first.ratio, None, "no target, no ratio to it");
+    let again = run();
+    // The first call's wall time comes back only from the file (a rerun measures its own).
+    assert_eq!(first.wall_seconds, again.wall_seconds, "the test ran again");
+    assert_eq!(
+        (first.strength, first.steps, first.curve.points.len()),
+        (again.strength, again.steps, again.curve.points.len())
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

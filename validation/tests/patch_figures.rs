@@ -89,7 +89,7 @@ fn figures_plot_the_campaigns_numbers() {
         .iter()
         .map(|p| p.1)
         .fold(f64::MIN, f64::max);
-    let ratio = report.cases[0].tensile.as_ref().unwrap().ratio;
+    let ratio = report.cases[0].tensile.as_ref().unwrap().ratio.unwrap();
     assert!(
         (peak - ratio).abs() < 1e-8,
         "the curve peaks at the reported ratio"

@@ -165,8 +165,10 @@ pub struct StrengthResult {
     pub strain_at_peak: f64,
     /// Target strength of eq (20) at the sample's d0 (sigma_N or sigma_T).
     pub target_strength: f64,
-    /// strength / target.
-    pub ratio: f64,
+    /// strength / target; None where the law has no target strength for this mode (the normal-only
+    /// law's shear), rather than an infinity that JSON cannot hold (it wrote null, and a finished
+    /// test's progress file could not be read back).
+    pub ratio: Option<f64>,
     pub steps: u64,
     pub particles: usize,
     pub fracture: Option<FractureResult>,
@@ -374,7 +376,7 @@ pub fn strength_resumable(
         strength: peak,
         strain_at_peak: peak_strain,
         target_strength: target,
-        ratio: peak / target,
+        ratio: (target > 0.0).then(|| peak / target),
         steps,
         particles: rig.sim.particles.len(),
         fracture,
@@ -385,12 +387,7 @@ pub fn strength_resumable(
         st.done = Some(res.clone());
         save_progress(f, &key, &mut st, &rig, t0)?;
     }
-    // A law without a shear strength (the normal-only one) has no target to be a ratio of.
-    let of_target = if target > 0.0 {
-        Sig(res.ratio, 4).to_string()
-    } else {
-        "-".into()
-    };
+    let of_target = res.ratio.map_or("-".into(), |r| Sig(r, 4).to_string());
     tracing::info!(target: "stage", mode = ?cfg.mode, strength = %Sig(peak, 4), of_target = %of_target, steps, seconds = %Sig(res.wall_seconds, 3), "strength test");
     Ok(res)
 }
