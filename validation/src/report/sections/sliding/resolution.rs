@@ -31,7 +31,7 @@ fn at_paper_d0(coarse: (f64, f64), fine: (f64, f64), at: f64) -> f64 {
 /// paper's terms: it drops the phase after the TBL reaches a body; each box's own tau_m), and the
 /// line through them read at d0 = 0.01 L ([`at_paper_d0`]). None unless both runs exist with at
 /// least `MIN_INTERIOR` interior windows in full contact (the statement is the shear band's).
-fn resolution(runs: &[&SlidingSummary], grid_d0: f64) -> Option<[(f64, f64); 2]> {
+fn resolution(runs: &[&SlidingSummary], grid_d0: f64) -> Option<Reading> {
     let (p_n, sigma_m, fine_d0) = FINE;
     let coarse = find(runs, p_n, sigma_m, grid_d0)?;
     let fine = find(runs, p_n, sigma_m, fine_d0).filter(|_| fine_d0 != grid_d0)?;
@@ -42,12 +42,27 @@ fn resolution(runs: &[&SlidingSummary], grid_d0: f64) -> Option<[(f64, f64); 2]>
             .filter(|i| i.windows >= MIN_INTERIOR && in_full_contact(i))?;
         Some((r.d0_over_l, i.p_t_over_tau_m))
     };
-    Some([point(coarse)?, point(fine)?])
+    let (coarse, fine) = (point(coarse)?, point(fine)?);
+    Some(Reading {
+        coarse,
+        fine,
+        at_paper_d0: at_paper_d0(coarse, fine, PAPER_D0),
+    })
+}
+
+/// The two boxes' (d0 / L, p_T / tau_m) and the line through them read at the paper's d0.
+struct Reading {
+    coarse: (f64, f64),
+    fine: (f64, f64),
+    at_paper_d0: f64,
 }
 
 pub(super) fn resolution_claim(runs: &[&SlidingSummary], grid_d0: f64) -> Option<Claim> {
-    let [coarse, fine] = resolution(runs, grid_d0)?;
-    let at = at_paper_d0(coarse, fine, PAPER_D0);
+    let Reading {
+        coarse,
+        fine,
+        at_paper_d0: at,
+    } = resolution(runs, grid_d0)?;
     Some(
         Claim::new(
             "004",
@@ -79,8 +94,11 @@ pub(super) fn resolution_claim(runs: &[&SlidingSummary], grid_d0: f64) -> Option
 /// The figure's third panel: the shear band's p_T / tau_m on both boxes and the line read at the
 /// paper's d0. None where [`resolution`] has no two points.
 pub(super) fn resolution_panel(runs: &[&SlidingSummary], grid_d0: f64) -> Option<Panel> {
-    let [coarse, fine] = resolution(runs, grid_d0)?;
-    let at = at_paper_d0(coarse, fine, PAPER_D0);
+    let Reading {
+        coarse,
+        fine,
+        at_paper_d0: at,
+    } = resolution(runs, grid_d0)?;
     Some(
         Panel::new(
             "shear band p_T / tau_m against d0 / L (sec. 3)",
