@@ -122,6 +122,7 @@ pub(crate) struct Batch {
     pub damping_power: Lane,
     pub slid: Lane,
     s: SlideScratch,
+    g: StageScratch,
 }
 
 impl Batch {
@@ -147,10 +148,26 @@ impl Batch {
     }
 
     /// [`Batch::evaluate`] with the constants already loaded.
+    ///
+    /// Decision (speed): the kernel runs in three stages, each over every lane, instead of one lane
+    /// function from inputs to outputs. One lane's chain of dependent operations (a square root, the
+    /// division, the normals, the midpoint velocity, the history, the force, the torques) is about
+    /// 150 cycles long, and with the whole kernel in one loop body (~290 instructions per vector of
+    /// lanes) the processor's reorder window held one vector's chain at a time: the kernel ran at
+    /// ~1.5 instructions per cycle, bound by latency. A stage's body is short enough that the window
+    /// holds the chains of every vector of lanes at once. Each lane computes the same expressions in
+    /// the same order as before, so the results are the same bits (docs/performance.md, "The kernel
+    /// in stages").
     #[inline(always)]
     pub fn evaluate_loaded<const TANGENTIAL: bool, const ENERGY: bool>(&mut self, dt: f64) {
         for l in 0..LANES {
-            self.lane::<TANGENTIAL, ENERGY>(l, dt);
+            self.geometry::<TANGENTIAL>(l, dt);
+        }
+        for l in 0..LANES {
+            self.normal::<TANGENTIAL, ENERGY>(l);
+        }
+        for l in 0..LANES {
+            self.tangential::<TANGENTIAL, ENERGY>(l, dt);
         }
         if TANGENTIAL {
             let s = &self.s;
@@ -163,15 +180,12 @@ impl Batch {
         }
     }
 
+    /// Stage 1: the distance and the unit normal, now and (with the history on) one step earlier.
     #[inline(always)]
-    fn lane<const TANGENTIAL: bool, const ENERGY: bool>(&mut self, l: usize, dt: f64) {
+    fn geometry<const TANGENTIAL: bool>(&mut self, l: usize, dt: f64) {
         let v3 = |a: &[Lane; 3]| Vec3::new(a[0][l], a[1][l], a[2][l]);
-        let (d, dv, wi, wj) = (v3(&self.d), v3(&self.dv), v3(&self.wi), v3(&self.wj));
-        let (ri, rj) = (self.k.ri[l], self.k.rj[l]);
-        let (k_n, de, df) = (self.k.k_n[l], self.k.delta_e[l], self.k.delta_f[l]);
-        let (c_n, c_t, k_t) = (self.k.c_n[l], self.k.c_t[l], self.k.k_t[l]);
+        let (d, dv) = (v3(&self.d), v3(&self.dv));
         let dist2 = d.norm_squared();
-        let inside = dist2 < self.k.reach2[l];
         let dist = dist2.sqrt();
         // With the history on, the separation one step earlier is needed too (exactly d + dv dt in
         // symplectic Euler), and n and n_prev share one division (1 / (|d| |d_prev|)), the slowest
@@ -184,9 +198,25 @@ impl Batch {
         } else {
             (d * (1.0 / dist), Vec3::zeros(), 0.0)
         };
+        let g = &mut self.g;
+        for a in 0..3 {
+            self.s.n[a][l] = n[a];
+            g.n_prev[a][l] = n_prev[a];
+        }
+        (g.dist2[l], g.dist[l], g.dist_prev[l]) = (dist2, dist, dist_prev);
+    }
+
+    /// Stage 2: the normal force of eq (3) with its damping, its energy, and (with the history on)
+    /// the tangential velocity at the contact in the step's midpoint geometry.
+    #[inline(always)]
+    fn normal<const TANGENTIAL: bool, const ENERGY: bool>(&mut self, l: usize) {
+        let v3 = |a: &[Lane; 3]| Vec3::new(a[0][l], a[1][l], a[2][l]);
+        let (dv, n) = (v3(&self.dv), v3(&self.s.n));
+        let (ri, rj) = (self.k.ri[l], self.k.rj[l]);
+        let (k_n, de, df, c_n) = (self.k.k_n[l], self.k.delta_e[l], self.k.delta_f[l], self.k.c_n[l]);
+        let (dist, dist_prev) = (self.g.dist[l], self.g.dist_prev[l]);
+        let inside = self.g.dist2[l] < self.k.reach2[l];
         let dn = dist - ri - rj;
-        let ai = ri + 0.5 * dn;
-        let aj = rj + 0.5 * dn;
         // Normal velocity of i relative to j: the spins add nothing along n ((a w) x n is normal to n).
         let vn = -dv.dot(&n);
         // Eq (3), every branch evaluated and one selected.
@@ -198,22 +228,60 @@ impl Batch {
         } else {
             0.0
         };
-        let mut f = (fn_ + c_n * vn) * n;
-        let mut damping_power = c_n * vn * vn;
-        let mut h = Vec3::zeros();
-        let mut e_t = 0.0;
+        let f = (fn_ + c_n * vn) * n;
+        for a in 0..3 {
+            self.f[a][l] = f[a];
+        }
+        self.g.dn[l] = dn;
         if TANGENTIAL {
             // Slip over the step that just moved the particles by v dt, in the midpoint geometry (see
             // the module docs). The normal turns by a tiny angle theta per step; with
             // e = 1 - cos(theta) ~ theta^2 / 2, the midpoint normal's 1/|n + n_prev| =
             // (1/2)(1 - e/2)^(-1/2) and 1/(1 + cos) = 1/(2 - e) are taken as series (remainder O(e^3),
             // below 1e-9 even for a 0.05 rad step).
+            let (wi, wj, n_prev) = (v3(&self.wi), v3(&self.wj), v3(&self.g.n_prev));
             let cos = n.dot(&n_prev);
             let e = 1.0 - cos;
             let m = (n + n_prev) * (0.5 * (1.0 + e * (0.25 + 0.09375 * e)));
             let half_gap_mid = 0.25 * (dist + dist_prev - 2.0 * (ri + rj));
             let v_rel_mid = dv + ((ri + half_gap_mid) * wi + (rj + half_gap_mid) * wj).cross(&m);
             let v_mid = v_rel_mid - m * v_rel_mid.dot(&m);
+            for a in 0..3 {
+                self.g.v_mid[a][l] = v_mid[a];
+            }
+            self.g.e[l] = e;
+        }
+        if ENERGY {
+            self.damping_power[l] = c_n * vn * vn;
+            let normal = if dn <= de {
+                0.5 * k_n * dn * dn - 0.5 * k_n * de * df
+            } else if dn <= df {
+                // Remaining area under the softening line from delta_N to delta_f, negated.
+                -0.5 * soft * (df - dn)
+            } else {
+                0.0
+            };
+            self.e_normal[l] = if inside { normal } else { 0.0 };
+        }
+    }
+
+    /// Stage 3: the tangential spring (turned with the pair, advanced by the slip, capped by eq 5),
+    /// its force and damping, the range cut, and the torques.
+    #[inline(always)]
+    fn tangential<const TANGENTIAL: bool, const ENERGY: bool>(&mut self, l: usize, dt: f64) {
+        let v3 = |a: &[Lane; 3]| Vec3::new(a[0][l], a[1][l], a[2][l]);
+        let (n, mut f) = (v3(&self.s.n), v3(&self.f));
+        let (ri, rj) = (self.k.ri[l], self.k.rj[l]);
+        let (df, c_t, k_t) = (self.k.delta_f[l], self.k.c_t[l], self.k.k_t[l]);
+        let inside = self.g.dist2[l] < self.k.reach2[l];
+        let dn = self.g.dn[l];
+        let ai = ri + 0.5 * dn;
+        let aj = rj + 0.5 * dn;
+        let mut h = Vec3::zeros();
+        let mut e_t = 0.0;
+        let mut damping_power = if ENERGY { self.damping_power[l] } else { 0.0 };
+        if TANGENTIAL {
+            let (n_prev, v_mid, e) = (v3(&self.g.n_prev), v3(&self.g.v_mid), self.g.e[l]);
             // Rodrigues: the smallest rotation taking n_prev to n turns the spring with the pair and
             // keeps its length (k = n_prev x n, c = n_prev . n, 1/(1 + c) as a series).
             let h_old = v3(&self.h);
@@ -247,9 +315,6 @@ impl Batch {
         let nxf = n.cross(&f);
         let (ti, tj) = (ai * nxf, aj * nxf);
         if TANGENTIAL {
-            for a in 0..3 {
-                self.s.n[a][l] = n[a];
-            }
             (self.s.ai[l], self.s.aj[l]) = (ai, aj);
         }
         for a in 0..3 {
@@ -259,15 +324,6 @@ impl Batch {
             self.h[a][l] = h[a];
         }
         if ENERGY {
-            let normal = if dn <= de {
-                0.5 * k_n * dn * dn - 0.5 * k_n * de * df
-            } else if dn <= df {
-                // Remaining area under the softening line from delta_N to delta_f, negated.
-                -0.5 * soft * (df - dn)
-            } else {
-                0.0
-            };
-            self.e_normal[l] = if inside { normal } else { 0.0 };
             self.e_tangential[l] = if inside { e_t } else { 0.0 };
             self.damping_power[l] = if inside { damping_power } else { 0.0 };
             // Energy released by sliding: set by `slide` for the lanes that slide.
@@ -302,6 +358,20 @@ impl Batch {
             self.e_tangential[l] = e_t;
         }
     }
+}
+
+/// What the kernel's stages pass on to the next (see [`Batch::evaluate_loaded`]).
+#[derive(Debug, Clone, Copy, Default)]
+struct StageScratch {
+    /// |d|^2, |d|, |d_prev| and delta_N.
+    dist2: Lane,
+    dist: Lane,
+    dist_prev: Lane,
+    dn: Lane,
+    n_prev: [Lane; 3],
+    /// The midpoint tangential velocity and e = 1 - n . n_prev.
+    v_mid: [Lane; 3],
+    e: Lane,
 }
 
 /// What [`Batch::slide`] needs from the main pass.
