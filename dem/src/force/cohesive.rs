@@ -213,7 +213,12 @@ impl Batch {
         let v3 = |a: &[Lane; 3]| Vec3::new(a[0][l], a[1][l], a[2][l]);
         let (dv, n) = (v3(&self.dv), v3(&self.s.n));
         let (ri, rj) = (self.k.ri[l], self.k.rj[l]);
-        let (k_n, de, df, c_n) = (self.k.k_n[l], self.k.delta_e[l], self.k.delta_f[l], self.k.c_n[l]);
+        let (k_n, de, df, c_n) = (
+            self.k.k_n[l],
+            self.k.delta_e[l],
+            self.k.delta_f[l],
+            self.k.c_n[l],
+        );
         let (dist, dist_prev) = (self.g.dist[l], self.g.dist_prev[l]);
         let inside = self.g.dist2[l] < self.k.reach2[l];
         let dn = dist - ri - rj;
