@@ -10,8 +10,10 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-// Every stage short: a 96-atom glass, short averages, a fast strain rate.
+// Every stage short: a 96-atom glass, short averages, a fast strain rate. The elastic stage on
+// the 0 K minimisation path (15.6 s -> 3.9 s per run); md_silica.rs covers the thermal path.
 const TINY: &str = "formula_units = 32
+elastic_temperature = 0.0
 melt_ps = 1.0
 anneal_ps = 0.5
 elastic_md_ps = 0.3
