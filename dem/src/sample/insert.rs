@@ -100,7 +100,7 @@ pub fn random_insertion(cfg: &InsertionConfig) -> Result<Sample> {
         SizeDistribution::LogNormal { mode, .. } => mode,
     };
     // Memory order = space order, for the speed of everything that runs on the sample afterwards.
-    p.sort_by_cells(bx.lo, d0);
+    p.sort_by_cells(bx.lo, bx.lengths(), d0);
     let mut s = Sample::new(p, bx, d0, "random insertion");
     s.seed = Some(cfg.seed);
     Ok(s)
