@@ -253,14 +253,19 @@ fn a_packing_with_too_many_partners_is_refused_with_the_reason() {
 
 /// `continuation = true`: a model with multipliers is relaxed in two stages, both phases with the
 /// closed-form parameters and then phase 2 with its own from that packing, bit for bit the same as
-/// doing the two by hand, where the one pass from the insertion collapses (delta_e x 1.3); the
-/// closed-form model itself is relaxed once, as without the option.
+/// doing the two by hand, where the one pass from the insertion collapses; the closed-form model
+/// itself is relaxed once, as without the option.
+///
+/// The multiplier is far from the edge on purpose: with delta_e x 1.3 whether the one pass collapses
+/// depends on round-off (seed 4 collapsed until the cell order of thin boxes changed, and on CI's
+/// machine it did not). With x 1.7 the one pass from the insertion fails on each of seeds 4-7, at
+/// phase-2 step 1 800-2 300 with stresses of 0.26-0.42 E against fail_stress = 0.25 E (seed 4: 0.42 E).
 #[test]
 fn relaxation_by_continuation_is_the_closed_form_sample_relaxed_again() {
     let mat = Material::table4(0.15);
     let closed = PairModel::cohesive(mat.clone());
     let mut trial = closed.clone();
-    trial.scale.delta_e = 1.3;
+    trial.scale.delta_e = 1.7;
     let ins = dem::sample::random_insertion(&insertion(&mat, 0.6, 6.0, 4)).unwrap();
     let plain = RelaxConfig::default();
     let cont = RelaxConfig {
