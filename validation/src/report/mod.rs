@@ -178,6 +178,30 @@ impl Context<'_> {
             .collect()
     }
 
+    /// [`Self::jobs`] with the cases started longest first by `cost` (any unit that orders them), and
+    /// the results handed back in list order. The job threads take cases from the front of the list
+    /// and steal the rest, so a long case listed last starts when the others are done and runs alone
+    /// on one core while the others idle; started first, it runs beside all the short ones (the
+    /// classic longest-processing-time rule). The cache keys do not depend on the order.
+    pub fn jobs_longest_first<I, R, C, F>(
+        &self,
+        what: &str,
+        jobs: &[I],
+        cost: C,
+        run: F,
+    ) -> Result<Vec<R>>
+    where
+        I: Serialize + Sync,
+        R: Serialize + DeserializeOwned + Send,
+        C: Fn(&I) -> f64,
+        F: Fn(&I, &Path, Parallelism) -> Result<R> + Sync,
+    {
+        let order = longest_first(jobs, cost);
+        let sorted: Vec<&I> = order.iter().map(|&k| &jobs[k]).collect();
+        let results = self.jobs(what, &sorted, |job, dir, par| run(job, dir, par))?;
+        Ok(in_list_order(&order, results))
+    }
+
     /// The MD set-up, or the reason there is none.
     pub fn md(&self) -> Result<&MdSetup> {
         self.md.as_ref().ok_or_else(|| {
@@ -362,5 +386,45 @@ fn section_claims(r: &SectionRun) -> Vec<Claim> {
             0.0,
             Tolerance::Absolute(0.0),
         )],
+    }
+}
+
+/// The indices of `jobs` by decreasing `cost`; equal costs (and NaN, compared as the largest) keep
+/// list order, so the order is a function of the list alone.
+pub(crate) fn longest_first<I>(jobs: &[I], cost: impl Fn(&I) -> f64) -> Vec<usize> {
+    let costs: Vec<f64> = jobs.iter().map(cost).collect();
+    let mut order: Vec<usize> = (0..jobs.len()).collect();
+    order.sort_by(|&a, &b| costs[b].total_cmp(&costs[a]));
+    order
+}
+
+/// `results[k]` belongs to the case `order[k]` of the list: the results in list order.
+fn in_list_order<R>(order: &[usize], results: Vec<R>) -> Vec<R> {
+    let mut back: Vec<Option<R>> = std::iter::repeat_with(|| None).take(order.len()).collect();
+    for (&k, r) in order.iter().zip(results) {
+        back[k] = Some(r);
+    }
+    back.into_iter().flatten().collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{in_list_order, longest_first};
+
+    #[test]
+    fn results_run_in_cost_order_come_back_in_list_order() {
+        let cases = ["short", "long", "middle"];
+        let order = longest_first(&cases, |c| c.len() as f64);
+        let ran: Vec<&str> = order.iter().map(|&k| cases[k]).collect();
+        assert_eq!(ran, ["middle", "short", "long"]);
+        let results: Vec<String> = ran.iter().map(|c| c.to_uppercase()).collect();
+        assert_eq!(in_list_order(&order, results), ["SHORT", "LONG", "MIDDLE"]);
+    }
+
+    #[test]
+    fn the_costliest_case_comes_first_and_ties_keep_list_order() {
+        let costs = [1.0, 8.0, 1.0, 3.0, 8.0];
+        assert_eq!(longest_first(&costs, |c| *c), vec![1, 4, 3, 0, 2]);
+        assert_eq!(longest_first::<f64>(&[], |c| *c), Vec::<usize>::new());
     }
 }

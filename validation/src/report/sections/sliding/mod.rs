@@ -20,7 +20,7 @@ use serde::{Deserialize, Serialize};
 use wear::tbl::RegimeParams;
 
 use super::super::html::png_img;
-use crate::report::{Context, Profile, Section, SectionOutput};
+use crate::report::{longest_first, Context, Profile, Section, SectionOutput};
 use crate::wear::samples::distinct;
 use crate::wear::sliding::{
     box_jobs, models, run_sliding_with, run_strength_job, InteriorSummary, ShearStrength,
@@ -177,11 +177,23 @@ pub(super) fn box_tag(r: &SlidingSummary, grid_d0: f64) -> String {
     }
 }
 
+/// A case's cost up to a constant, to order the jobs: particle-steps of its box (L x L x 3 d0 holds
+/// ~ 1 / d0^2 particles, and the step scales with d0, so a distance takes ~ 1 / d0 steps).
+fn cost(c: &SlidingConfig) -> f64 {
+    c.distance_over_l / c.d0_over_l.powi(3)
+}
+
 fn run(ctx: &Context) -> Result<SectionOutput> {
     let cases = cases(ctx.profile);
     // The relaxed boxes first, each once: a strength job and the runs of its material slide and
-    // shear the same box, read from the report's cache.
-    let runs: Vec<SlidingConfig> = cases.iter().map(|c| c.sliding.clone()).collect();
+    // shear the same box, read from the report's cache. Every phase starts its costliest case first
+    // (the 40 d0 box's relaxation, strength job and run beside the 20 d0 ones, not alone after
+    // them); the boxes' results are only their cache entries, so their list is simply made from the
+    // runs in that order.
+    let runs: Vec<SlidingConfig> = longest_first(&cases, |c| cost(&c.sliding))
+        .into_iter()
+        .map(|k| cases[k].sliding.clone())
+        .collect();
     let models = models(&runs)?;
     let boxes = box_jobs(&runs, &models)?;
     ctx.jobs("sliding boxes", &distinct(&boxes), |job, dir, par| {
@@ -194,8 +206,11 @@ fn run(ctx: &Context) -> Result<SectionOutput> {
             jobs.push(j);
         }
     }
-    let strengths: Vec<StrengthOut> =
-        ctx.jobs("sliding strength tests", &jobs, |job, dir, par| {
+    let strengths: Vec<StrengthOut> = ctx.jobs_longest_first(
+        "sliding strength tests",
+        &jobs,
+        |j| cost(&j.sliding),
+        |job, dir, par| {
             let strength = run_strength_job(job, &ctx.cache, dir, par)?;
             let what = format!("sigma_m = {} E", job.sliding.material.strength);
             Ok(StrengthOut {
@@ -205,7 +220,8 @@ fn run(ctx: &Context) -> Result<SectionOutput> {
                     &format!("strength tests, {what}"),
                 )?,
             })
-        })?;
+        },
+    )?;
     let tau_of = |c: &SlidingConfig| -> ShearStrength {
         let k = jobs
             .iter()
@@ -213,19 +229,25 @@ fn run(ctx: &Context) -> Result<SectionOutput> {
             .expect("every case has its strength job");
         ShearStrength::measured(&strengths[k].strength)
     };
-    let outs: Vec<RunOut> = ctx.jobs("sliding runs", &cases, |case, dir, par| {
-        let tau = tau_of(&case.sliding);
-        let summary = run_sliding_with(&case.sliding, &tau, &ctx.cache, dir, par, &mut |_, _| {})?;
-        let what = format!(
-            "p_N = {} E, sigma_m = {} E",
-            case.sliding.pressure, case.sliding.material.strength
-        );
-        Ok(RunOut {
-            summary,
-            profiles: png_img(&dir.join("profiles.png"), &format!("profiles, {what}"))?,
-            snapshot: png_img(&dir.join("snapshot.png"), &format!("snapshot, {what}"))?,
-        })
-    })?;
+    let outs: Vec<RunOut> = ctx.jobs_longest_first(
+        "sliding runs",
+        &cases,
+        |c| cost(&c.sliding),
+        |case, dir, par| {
+            let tau = tau_of(&case.sliding);
+            let summary =
+                run_sliding_with(&case.sliding, &tau, &ctx.cache, dir, par, &mut |_, _| {})?;
+            let what = format!(
+                "p_N = {} E, sigma_m = {} E",
+                case.sliding.pressure, case.sliding.material.strength
+            );
+            Ok(RunOut {
+                summary,
+                profiles: png_img(&dir.join("profiles.png"), &format!("profiles, {what}"))?,
+                snapshot: png_img(&dir.join("snapshot.png"), &format!("snapshot, {what}"))?,
+            })
+        },
+    )?;
     let runs: Vec<&SlidingSummary> = outs.iter().map(|o| &o.summary).collect();
     let grid_d0 = cases[0].sliding.d0_over_l;
     Ok(SectionOutput {
