@@ -20,7 +20,8 @@ pub struct CompareArgs {
     /// Output directory (compare.json, compare.svg/.png, compare.md, the DEM searches).
     #[arg(long, default_value = "out/compare")]
     pub out: PathBuf,
-    /// DEM runs side by side (default: one per core, each single-threaded).
+    /// Runs side by side (default: one per core): DEM runs, each single-threaded, and the MD runs of
+    /// a search round or of the scan, jobs / np worker processes of np ranks each.
     #[arg(long)]
     pub jobs: Option<usize>,
     /// MPI ranks of each MD run (1: the runs of the comparison's cost table are single-process).

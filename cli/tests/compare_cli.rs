@@ -81,6 +81,10 @@ fn case(name: &str) -> Case {
 }
 
 fn run(c: &Case) -> Output {
+    run_with(c, 1)
+}
+
+fn run_with(c: &Case, jobs: usize) -> Output {
     let o = cgdem(&[
         "compare",
         &c.cfg,
@@ -89,10 +93,51 @@ fn run(c: &Case) -> Output {
         "--md-cache",
         c.cache.to_str().unwrap(),
         "--jobs",
-        "1",
+        &jobs.to_string(),
     ]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     o
+}
+
+/// `v` without the keys named `wall_seconds` or `seconds` and the costs summed from them, at any depth.
+fn without_times(v: &serde_json::Value) -> serde_json::Value {
+    match v {
+        serde_json::Value::Object(m) => m
+            .iter()
+            .filter(|(k, _)| !k.contains("seconds"))
+            .map(|(k, x)| (k.clone(), without_times(x)))
+            .collect(),
+        serde_json::Value::Array(a) => a.iter().map(without_times).collect(),
+        x => x.clone(),
+    }
+}
+
+#[test]
+fn md_runs_side_by_side_give_the_runs_of_one_at_a_time() {
+    venv_or_fail();
+    let (one, two) = (case("compare-jobs-1"), case("compare-jobs-2"));
+    run_with(&one, 1);
+    let o = run_with(&two, 2);
+    // Every run ran (none came from a cache), each as its own worker.
+    assert_eq!(md_lines(&o).1, 0, "{}", text(&o.stderr));
+    let (a, b) = (
+        json(&one.out.join("compare.json")),
+        json(&two.out.join("compare.json")),
+    );
+    for k in ["md", "md_bracket", "md_detachment"] {
+        assert_eq!(without_times(&a[k]), without_times(&b[k]), "{k}");
+    }
+    assert_eq!(a["md"]["runs"].as_array().unwrap().len(), 4);
+    // The same requests: the same MD job hashes in both caches.
+    let hashes = |c: &Case| {
+        let mut h: Vec<String> = std::fs::read_dir(&c.cache)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        h.sort();
+        h
+    };
+    assert_eq!(hashes(&one), hashes(&two));
 }
 
 fn json(path: &Path) -> serde_json::Value {

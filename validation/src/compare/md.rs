@@ -10,6 +10,9 @@
 //! edges cut the lattice columns differently: two seeds are two junctions of the same width, as two
 //! DEM packings are.
 
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Mutex;
+
 use md_bridge::job::{run_job, Job, JobOutput, RunOptions};
 use md_bridge::junction::JunctionConfig;
 use serde::{Deserialize, Serialize};
@@ -131,11 +134,13 @@ pub struct MdSearch {
     pub cost_seconds: f64,
 }
 
-/// Runs (or reads from the MD cache) the search, one worker at a time; `report(run, cached)` hears
-/// of every run as it ends.
+/// Runs (or reads from the MD cache) the search, the runs of a round (its sizes times the seeds, which
+/// do not depend on each other) `at_once` workers at a time; `report(run, cached)` hears of every
+/// run, in the round's order, when the round ends.
 pub fn search(
     cfg: &MdSearchConfig,
     opts: &RunOptions,
+    at_once: usize,
     report: &mut dyn FnMut(&MdRun, bool),
 ) -> Result<MdSearch> {
     let settings = cfg.settings()?;
@@ -148,18 +153,15 @@ pub fn search(
             Step::Done { converged, reason } => break (converged, reason),
             Step::Probe(sizes) => {
                 tracing::info!(round = rounds + 1, ?sizes, "MD d* search round");
+                let jobs: Vec<JunctionConfig> = sizes
+                    .iter()
+                    .flat_map(|&d| cfg.seeds.iter().map(move |&seed| cfg.run_config(d, seed)))
+                    .collect();
+                let done = run_many(&jobs, opts, at_once, "MD d* search")?;
+                let mut done = done.into_iter();
                 for &d in &sizes {
                     let mut outcomes = Vec::new();
-                    for &seed in &cfg.seeds {
-                        // A Ctrl-C between two workers stops here; the finished runs are cached.
-                        if dem::interrupt::requested() {
-                            return Err(ValidationError::Report(
-                                "MD d* search interrupted: the finished runs are cached, the same \
-                                 command resumes after them"
-                                    .into(),
-                            ));
-                        }
-                        let (r, cached) = run_one(&cfg.run_config(d, seed), opts)?;
+                    for (r, cached) in done.by_ref().take(cfg.seeds.len()) {
                         report(&r, cached);
                         outcomes.push(r.outcome);
                         runs.push(r);
@@ -183,6 +185,60 @@ pub fn search(
         cost_seconds: runs.iter().map(|r| r.wall_seconds).sum(),
         runs,
     })
+}
+
+/// A finished MD run and whether it came from the cache.
+type Ran = (MdRun, bool);
+
+/// Runs the junction jobs of `jobs` (or reads them from the MD cache), `at_once` worker processes at
+/// a time, each job as [`run_one`] runs it alone: the same request, hence the same cached record, for
+/// any `at_once`. Results in list order. A Ctrl-C stops the list before its next job starts, and an
+/// error stops it once the jobs already started have ended; the finished runs are cached either way,
+/// and the same command resumes after them (`what` names the list in that message).
+pub(crate) fn run_many(
+    jobs: &[JunctionConfig],
+    opts: &RunOptions,
+    at_once: usize,
+    what: &str,
+) -> Result<Vec<Ran>> {
+    let next = AtomicUsize::new(0);
+    let slots: Vec<Mutex<Option<Result<Ran>>>> = jobs.iter().map(|_| Mutex::new(None)).collect();
+    let failed = AtomicBool::new(false);
+    let worker = || loop {
+        if failed.load(Ordering::Relaxed) || dem::interrupt::requested() {
+            return;
+        }
+        let k = next.fetch_add(1, Ordering::Relaxed);
+        let Some(job) = jobs.get(k) else { return };
+        let r = run_one(job, opts);
+        if r.is_err() {
+            failed.store(true, Ordering::Relaxed);
+        }
+        if let Ok(mut slot) = slots[k].lock() {
+            *slot = Some(r);
+        }
+    };
+    std::thread::scope(|s| {
+        for _ in 1..at_once.clamp(1, jobs.len().max(1)) {
+            s.spawn(worker);
+        }
+        worker();
+    });
+    let mut out = Vec::with_capacity(jobs.len());
+    for slot in slots {
+        match slot.into_inner().ok().flatten() {
+            Some(r) => out.push(r?),
+            // Jobs start in list order, so an unstarted one follows every error: only a Ctrl-C
+            // gets here.
+            None => {
+                return Err(ValidationError::Report(format!(
+                    "{what} interrupted: the finished runs are cached, the same command resumes \
+                     after them"
+                )))
+            }
+        }
+    }
+    Ok(out)
 }
 
 pub(crate) fn run_one(j: &JunctionConfig, opts: &RunOptions) -> Result<(MdRun, bool)> {

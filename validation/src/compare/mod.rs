@@ -115,7 +115,8 @@ impl CompareFile {
 pub struct CompareRun<'a> {
     /// MD worker launch (executable, ranks, cache).
     pub md: RunOptions,
-    /// DEM jobs side by side.
+    /// Jobs side by side: the DEM cases, and the MD runs of a search round or of the scan (as many
+    /// worker processes as fit `at_once` cores with `md.np` ranks each).
     pub dem: RunJobs,
     pub par: Parallelism,
     /// The compare config's folder (relative paths start there).
@@ -124,7 +125,7 @@ pub struct CompareRun<'a> {
 
 /// Runs (or reads from the caches) the model card, the MD search and every DEM search, and writes
 /// the outputs into `out`.
-/// `report(run, cached)` hears of every MD run as it ends.
+/// `report(run, cached)` hears of every MD run, batch by batch (a search round, the scan).
 pub fn compare(
     file: &CompareFile,
     how: &CompareRun,
@@ -187,9 +188,10 @@ pub fn compare(
     }
     let (card, card_seconds) = model_card(&file.model, &how.md)?;
     tracing::info!(d_star = card.d_star, "model card");
-    let md = md::search(&file.md, &how.md, report)?;
+    let md_at_once = (how.dem.at_once / how.md.np.max(1) as usize).max(1);
+    let md = md::search(&file.md, &how.md, md_at_once, report)?;
     let md_detachment = match &file.scan {
-        Some(sc) => Some(md_scan(file, sc, &md, &how.md, report)?),
+        Some(sc) => Some(md_scan(file, sc, &md, &how.md, md_at_once, report)?),
         None => None,
     };
     let mut dem = Vec::new();
@@ -213,13 +215,14 @@ pub fn compare(
     Ok(result)
 }
 
-/// The MD side's scan: the scan seeds at the sizes around the MD transition, one worker at a time
-/// (each a cached job), and the fit over every MD run.
+/// The MD side's scan: the scan seeds at the sizes around the MD transition, `at_once` workers at a
+/// time (each a cached job), and the fit over every MD run.
 fn md_scan(
     file: &CompareFile,
     sc: &scan::ScanConfig,
     md: &md::MdSearch,
     opts: &RunOptions,
+    at_once: usize,
     report: &mut dyn FnMut(&md::MdRun, bool),
 ) -> Result<scan::Detachment> {
     let mut visited: Vec<f64> = md.runs.iter().map(|r| r.diameter).collect();
@@ -242,19 +245,17 @@ fn md_scan(
     };
     let mut trials: Vec<scan::Trial> = md.runs.iter().map(|r| trial(r, false)).collect();
     // The search's runs at a scanned size are already in; the scan adds its own seeds there.
-    for &d in &sizes {
-        for &seed in &sc.seeds {
-            if dem::interrupt::requested() {
-                return Err(ValidationError::Report(
-                    "MD detachment scan interrupted: the finished runs are cached, the same \
-                     command resumes after them"
-                        .into(),
-                ));
-            }
-            let (r, cached) = md::run_one(&file.md.run_config(d, seed), opts)?;
-            report(&r, cached);
-            trials.push(trial(&r, true));
-        }
+    let jobs: Vec<_> = sizes
+        .iter()
+        .flat_map(|&d| {
+            sc.seeds
+                .iter()
+                .map(move |&seed| file.md.run_config(d, seed))
+        })
+        .collect();
+    for (r, cached) in md::run_many(&jobs, opts, at_once, "MD detachment scan")? {
+        report(&r, cached);
+        trials.push(trial(&r, true));
     }
     scan::Detachment::new(sizes, sc.seeds.clone(), trials, &sc.fit)
 }
