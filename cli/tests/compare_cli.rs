@@ -99,7 +99,8 @@ fn run_with(c: &Case, jobs: usize) -> Output {
     o
 }
 
-/// `v` without the keys named `wall_seconds` or `seconds` and the costs summed from them, at any depth.
+/// `v` without the keys whose name holds `seconds` (wall times and the costs summed from them), at
+/// any depth.
 fn without_times(v: &serde_json::Value) -> serde_json::Value {
     match v {
         serde_json::Value::Object(m) => m
