@@ -79,6 +79,14 @@ pub fn periodicity(b: &SimBox) -> Periodicity {
     Periodicity(std::array::from_fn(|a| b.periodic[a].then_some(l[a])))
 }
 
+/// Every particle's position on its continuous path (unwrapped by the engine's image counts): what a
+/// cluster analysis between two frames follows each bond's periodic image with.
+pub fn unwrapped(sim: &Simulation) -> Vec<[f64; 3]> {
+    (0..sim.particles.len())
+        .map(|i| point(&sim.unwrapped_position(i)))
+        .collect()
+}
+
 fn point(v: &Vec3) -> [f64; 3] {
     [v.x, v.y, v.z]
 }

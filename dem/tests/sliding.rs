@@ -108,7 +108,22 @@ fn the_top_body_slides_at_v0_carries_p_n_and_threads_do_not_matter() {
     assert!(r.h_tbl >= 0.0 && r.h_tbl <= 1.0);
     assert!(r.p_t.is_finite() && r.p_t > 0.0, "p_T {}", r.p_t);
     assert!((r.d_m_over_d0 - 0.375).abs() < 1e-12);
-    // Bit-identical on two threads.
+    // Wear particles: one record per window, at its end. The two halves slide past each other, each
+    // bonded to its body: next to nothing is detached and no wear particle forms (a bond rule that
+    // kept no bond, or a frame pair that was not a window apart, would detach the whole layer).
+    assert_eq!(r.wear.len(), r.windows.len());
+    for (w, k) in r.wear.iter().zip(&r.windows) {
+        assert_eq!((w.step, w.slide), (k.step, k.slide));
+        let p = &w.particles;
+        assert!(p.detached < 0.02, "{w:?}");
+        assert_eq!(p.count, 0, "{w:?}");
+        assert!(p.largest_fraction <= p.detached);
+    }
+    let ws = r
+        .wear_summary
+        .expect("a run with windows has a wear summary");
+    assert_eq!(ws.max_largest_over_l, 0.0);
+    // Bit-identical on two threads (the wear records included).
     let two = run(&sample, &model, &cfg, TAU_M, Parallelism::Threads(2), None).unwrap();
     assert_eq!(timeless(&two), timeless(&r));
 }

@@ -139,6 +139,57 @@ pub fn draw_h_tbl(path: &Path, r: &SlidingResult, length: f64, window: usize) ->
     root.present().map_err(|e| draw_err(path, e))
 }
 
+/// Draws the layer's wear particles against the slide (Fig. 3a and 3c): the largest one's equivalent
+/// diameter over L (0 in a window without a loose cluster of `min_members`) and the detached fraction
+/// of the layer, per window (`dem::scenario::sliding::WearRecord`).
+pub fn draw_wear_particles(
+    path: &Path,
+    r: &SlidingResult,
+    length: f64,
+    min_members: usize,
+) -> Result<()> {
+    ensure_font()?;
+    let labels = [
+        "largest wear particle: equivalent diameter / L",
+        "detached fraction of the layer",
+    ];
+    let (root, body) = keyed_figure(path, (1100, 520), &labels, 2, None)?;
+    let size: Vec<(f64, f64)> = r
+        .wear
+        .iter()
+        .map(|w| {
+            let p = &w.particles;
+            let d = if p.largest >= min_members {
+                p.largest_diameter / length
+            } else {
+                0.0
+            };
+            (w.slide / length, d)
+        })
+        .collect();
+    let detached: Vec<(f64, f64)> = r
+        .wear
+        .iter()
+        .map(|w| (w.slide / length, w.particles.detached))
+        .collect();
+    let series: Vec<Series> = vec![
+        (String::new(), size, Mark::Line, 0),
+        (String::new(), detached, Mark::Points, 1),
+    ];
+    let title = format!(
+        "Wear particles over time (Fig. 3), regime: {}",
+        r.regime.label()
+    );
+    panel(
+        path,
+        &body,
+        (&title, "slide distance / L", "diameter / L, fraction"),
+        Scale::Linear,
+        &series,
+    )?;
+    root.present().map_err(|e| draw_err(path, e))
+}
+
 /// Colour of an initial-height band in [0, 1]: blue at the bottom through green to orange on top.
 fn band_colour(f: f64) -> RGBColor {
     let stops = [

@@ -12,8 +12,13 @@
 //! - `windows.csv`: h_TBL / H, rho_TBL / rho_0 and the TBL's boundaries over H per window against
 //!   the slide (Fig. 5); `summary.json`'s `body_reached_at_l` and `interior` come from them;
 //! - `force.csv`: the horizontal and normal pair forces on the two bodies and p_T;
+//! - `wear_particles.csv`: per window, the layer's wear particles (loose clusters of at least
+//!   `wear_particle_members`: their count, the largest's members, fraction and equivalent diameter
+//!   over L) and its detached fraction (`wear::tbl::wear_particles`); `summary.json`'s
+//!   `wear_particles` summarises them;
 //! - `sliding.dump`: LAMMPS-style frames (OVITO) with `half` and `height0` columns;
-//! - `profiles.png`, `h_tbl.png`, `snapshot.png` (see [`crate::figures::sliding`]).
+//! - `profiles.png`, `h_tbl.png`, `snapshot.png`, `wear_particles.png` (see
+//!   [`crate::figures::sliding`]).
 //!
 //! The strength tests (tau_m and sigma_t, [`dem::scenario::sliding::measure_strength`]) are jobs of
 //! their own in `DIR/strength/<key>/` (`strength.json`, `strength.csv`, `strength.png`), keyed by
@@ -41,7 +46,9 @@ use wear::tbl::Regime;
 use super::json;
 use super::samples::{relax_all, relaxed, SampleJob};
 use crate::error::{Result, ValidationError};
-use crate::figures::sliding::{draw_h_tbl, draw_profiles, draw_snapshot, draw_strength};
+use crate::figures::sliding::{
+    draw_h_tbl, draw_profiles, draw_snapshot, draw_strength, draw_wear_particles,
+};
 
 /// Bumped when the strength tests' code changes what they give (retires cached measurements).
 // 2: the shear test runs on past the peak and the output carries the flow stress.
@@ -154,6 +161,10 @@ pub struct SlidingSummary {
     /// The layer's shear stress falls as it rises (docs/sliding.md).
     #[serde(default)]
     pub agitation: Option<f64>,
+    /// The layer's wear particles (Fig. 3a and 3c; `dem::scenario::sliding::WearSummary`, lengths
+    /// over L): loose clusters of at least `wear_particle_members` particles; none for older runs.
+    #[serde(default)]
+    pub wear_particles: Option<dem::scenario::sliding::WearSummary>,
     pub strength: f64,
     pub surface_energy: f64,
     pub d_star: f64,
@@ -439,6 +450,7 @@ pub fn run_sliding_with(
         tau_flow_over_sigma_m: tau.tau_flow.map(|t| t / cfg.material.strength),
         p_t_over_tau_flow: tau.tau_flow.map(|t| r.p_t / t),
         agitation: r.layer.agitation,
+        wear_particles: r.wear_summary,
         strength: cfg.material.strength,
         surface_energy: cfg.surface_energy()?,
         d_star: r.d_star,
@@ -608,6 +620,25 @@ fn write_outputs(
         .expect("writing to a String");
     }
     write_atomic(&out.join("windows.csv"), csv.as_bytes())?;
+    let mut csv = String::from(
+        "step,slide_over_l,wear_particles,largest_members,largest_fraction,largest_diameter_over_l,detached\n",
+    );
+    for w in &r.wear {
+        let p = &w.particles;
+        writeln!(
+            csv,
+            "{},{},{},{},{},{},{}",
+            w.step,
+            w.slide / cfg.length,
+            p.count,
+            p.largest,
+            p.largest_fraction,
+            p.largest_diameter / cfg.length,
+            p.detached
+        )
+        .expect("writing to a String");
+    }
+    write_atomic(&out.join("wear_particles.csv"), csv.as_bytes())?;
     let mut csv = String::from("step,time,slide,fx_top,fy_top,fx_bottom,fy_bottom,p_t\n");
     for (a, b) in r.force_top.iter().zip(&r.force_bottom) {
         writeln!(
@@ -628,5 +659,11 @@ fn write_outputs(
     draw_profiles(&out.join("profiles.png"), r)?;
     draw_h_tbl(&out.join("h_tbl.png"), r, cfg.length, cfg.regime.window)?;
     draw_snapshot(&out.join("snapshot.png"), r)?;
+    draw_wear_particles(
+        &out.join("wear_particles.png"),
+        r,
+        cfg.length,
+        cfg.wear_particle_members,
+    )?;
     Ok(())
 }

@@ -216,17 +216,43 @@ pub struct Detachment {
     pub surviving_bonds: usize,
 }
 
-/// Cluster analysis between the `first` and `last` frames of every tracked particle (junction members,
-/// the bodies and the walls; indices into the frames), anchored at `anchors` (the wall particles).
-/// `last` must continue `first` without wrapping (unwrapped positions, [`crate::outcome::unwrap_frame`]
-/// frame by frame, or the engine's image counts), so that a bond's periodic image can be followed.
-pub fn detachment(
+/// One cluster of surviving bonds that holds no anchor.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LooseCluster {
+    /// Its label in [`LooseClusters::labels`] (the smallest particle index in it).
+    pub label: usize,
+    /// Members in it, and particles (members or not).
+    pub members: usize,
+    pub particles: usize,
+}
+
+/// Every cluster of surviving bonds between two frames that holds members and no anchor: what
+/// [`detachment`] reads for a junction and the sliding layer reads for its wear particles.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LooseClusters {
+    /// Cluster label of every tracked particle (the smallest index in its cluster).
+    pub labels: Vec<usize>,
+    /// The loose clusters, most members first (ties: the smaller label first), so the order is
+    /// unique.
+    pub clusters: Vec<LooseCluster>,
+    /// Members with no chain of surviving bonds to an anchor.
+    pub detached_members: usize,
+    /// Bonds in the first frame, and how many of them are still bonds in the last (same image).
+    pub initial_bonds: usize,
+    pub surviving_bonds: usize,
+}
+
+/// The loose clusters between the `first` and `last` frames of every tracked particle, anchored at
+/// `anchors`: bonds of the first frame that survive to the last in the same periodic image (module
+/// docs). `last` must continue `first` without wrapping (unwrapped positions,
+/// [`crate::outcome::unwrap_frame`] frame by frame, or the engine's image counts).
+pub fn loose_clusters(
     first: &[[f64; 3]],
     last: &[[f64; 3]],
     bonding: &Bonding,
     members: &[usize],
     anchors: &[usize],
-) -> Result<Detachment> {
+) -> Result<LooseClusters> {
     let n = first.len();
     if last.len() != n {
         return Err(WearError::Frames(format!(
@@ -254,7 +280,9 @@ pub fn detachment(
         )));
     }
     if members.is_empty() {
-        return Err(WearError::Frames("a junction without members".into()));
+        return Err(WearError::Frames(
+            "a cluster analysis without members".into(),
+        ));
     }
     let initial = bonding.bonds(first);
     let surviving: Vec<(usize, usize)> = initial
@@ -270,21 +298,50 @@ pub fn detachment(
             *loose.entry(labels[m]).or_default() += 1;
         }
     }
-    let detached: usize = loose.values().sum();
-    // The largest loose cluster by members; ties go to the smaller label, so the answer is unique.
-    let debris = loose
+    let mut particles: HashMap<usize, usize> = HashMap::new();
+    for &l in &labels {
+        if loose.contains_key(&l) {
+            *particles.entry(l).or_default() += 1;
+        }
+    }
+    let mut found: Vec<LooseCluster> = loose
         .iter()
-        .max_by(|a, b| a.1.cmp(b.1).then(b.0.cmp(a.0)))
-        .map(|(&label, &count)| (label, count));
-    let (debris_members, debris_size) = match debris {
-        Some((label, count)) => (count, labels.iter().filter(|&&l| l == label).count()),
-        None => (0, 0),
-    };
-    Ok(Detachment {
-        detached_fraction: detached as f64 / members.len() as f64,
-        debris_fraction: debris_members as f64 / members.len() as f64,
-        debris_size,
+        .map(|(&label, &members)| LooseCluster {
+            label,
+            members,
+            particles: particles[&label],
+        })
+        .collect();
+    found.sort_unstable_by(|a, b| b.members.cmp(&a.members).then(a.label.cmp(&b.label)));
+    Ok(LooseClusters {
+        detached_members: loose.values().sum(),
+        labels,
+        clusters: found,
         initial_bonds: initial.len(),
         surviving_bonds: surviving.len(),
+    })
+}
+
+/// Cluster analysis between the `first` and `last` frames of every tracked particle (junction members,
+/// the bodies and the walls; indices into the frames), anchored at `anchors` (the wall particles):
+/// the detached fraction and the largest loose cluster, the debris, of [`loose_clusters`].
+pub fn detachment(
+    first: &[[f64; 3]],
+    last: &[[f64; 3]],
+    bonding: &Bonding,
+    members: &[usize],
+    anchors: &[usize],
+) -> Result<Detachment> {
+    let loose = loose_clusters(first, last, bonding, members, anchors)?;
+    let (debris_members, debris_size) = loose
+        .clusters
+        .first()
+        .map_or((0, 0), |c| (c.members, c.particles));
+    Ok(Detachment {
+        detached_fraction: loose.detached_members as f64 / members.len() as f64,
+        debris_fraction: debris_members as f64 / members.len() as f64,
+        debris_size,
+        initial_bonds: loose.initial_bonds,
+        surviving_bonds: loose.surviving_bonds,
     })
 }

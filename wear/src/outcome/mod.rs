@@ -30,7 +30,9 @@ pub mod rotation;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, WearError};
-pub use cluster::{detachment, Bonding, Detachment, Periodicity};
+pub use cluster::{
+    detachment, loose_clusters, Bonding, Detachment, LooseCluster, LooseClusters, Periodicity,
+};
 
 /// Verdict classes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

@@ -9,7 +9,9 @@
 //! - [`layer`]: one profile to its boundaries, filtered density and rho_TBL;
 //! - [`regime`]: the steady state and the regime label of a run (mixed with wear particles, shear
 //!   band, growing large particles; Fig. 3; or a TBL that has reached a rigid body, the phase the
-//!   paper drops) from these measures and p_T.
+//!   paper drops) from these measures and p_T;
+//! - [`mod@wear_particles`]: the loose clusters of layer material between two frames (Fig. 3a and 3c),
+//!   the junction's cluster rule applied to the layer.
 
 pub mod bounds;
 pub mod filter;
@@ -17,6 +19,7 @@ pub mod fit;
 pub mod layer;
 pub mod profile;
 pub mod regime;
+pub mod wear_particles;
 
 pub use bounds::{tbl_bounds, TblBounds};
 pub use filter::{moving_average, savitzky_golay};
@@ -27,3 +30,4 @@ pub use regime::{
     classify_regime, erratic_spread, shear_traction, steady_mean, touches_body, Regime, RegimeData,
     RegimeParams,
 };
+pub use wear_particles::{wear_particles, LayerGeometry, WearParticles};

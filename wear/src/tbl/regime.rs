@@ -24,6 +24,13 @@
 //! no intact particle layer is left between the sheared band and the rigid body, so p_T there is
 //! the strength of the body's interface, not of the layer. It is checked before the other labels
 //! because its measures are not those of any of the paper's three regimes.
+//!
+//! Decision (the wear particles, checked before everything): where the run measured its wear
+//! particles ([`crate::tbl::wear_particles()`]), a steady mean size of the largest one at or above
+//! `growing_size` L is growing particles whatever the other measures say. That is Fig. 3c's own
+//! definition ("large wear particles, that grow in size until reaching the size of the system"); a
+//! particle that size lies against both bodies, so the boundary test would otherwise hide the very
+//! regime it grows into. Mixed-regime wear particles stay a few d0 across, hundredths of L.
 
 use serde::{Deserialize, Serialize};
 
@@ -76,6 +83,10 @@ pub struct RegimeParams {
     /// Distance, in particle diameters, from a body's inner face within which a TBL boundary has
     /// reached the body: half a particle, less than one intact layer between band and body.
     pub boundary_reach: f64,
+    /// Steady mean equivalent diameter of the largest wear particle, over L, at or above which the
+    /// run is growing particles (module docs): a fifth of the system, ten times the few d0 of the
+    /// mixed regime's particles at the paper's d0 = 0.01 L.
+    pub growing_size: f64,
 }
 
 impl Default for RegimeParams {
@@ -86,6 +97,7 @@ impl Default for RegimeParams {
             erratic: 0.5,
             window: 9,
             boundary_reach: 0.5,
+            growing_size: 0.2,
         }
     }
 }
@@ -105,6 +117,9 @@ pub struct RegimeData {
     /// The bodies' inner faces over H (bottom, top) and the particle diameter d0 / H.
     pub faces: (f64, f64),
     pub d0: f64,
+    /// The steady mean equivalent diameter of the largest wear particle over L (`None`: not
+    /// measured).
+    pub wear_particle_size: Option<f64>,
 }
 
 /// Whether `bounds` (over H) lies within `reach` (over H) of the bodies' inner `faces` (bottom, top).
@@ -169,6 +184,12 @@ pub fn classify_regime(data: &RegimeData, params: &RegimeParams) -> Result<Regim
             data.faces, data.d0, params.boundary_reach
         )));
     }
+    if data
+        .wear_particle_size
+        .is_some_and(|d| d >= params.growing_size)
+    {
+        return Ok(Regime::GrowingParticles);
+    }
     if let Some(b) = &data.bounds {
         if touches_body(b, data.faces, params.boundary_reach * data.d0) {
             return Ok(Regime::BoundaryReached);
@@ -201,6 +222,7 @@ mod tests {
             bounds: Some(TblBounds { lo: 0.4, hi: 0.6 }),
             faces: (0.1, 0.9),
             d0: 0.05,
+            wear_particle_size: None,
         }
     }
 
@@ -236,6 +258,14 @@ mod tests {
         assert!(erratic_spread(&steady, 9) < 0.1);
         let r = classify_regime(&data(0.7, 0.7 * 0.022, jumpy), &p).unwrap();
         assert_eq!(r, Regime::GrowingParticles);
+        // A wear particle a quarter of the system across: growing particles, even against a body
+        // and at full contact; a few d0 across (0.03 L) changes nothing.
+        let mut d = data(0.99, 0.022, steady.clone());
+        d.bounds = Some(TblBounds { lo: 0.8, hi: 0.89 });
+        d.wear_particle_size = Some(0.03);
+        assert_eq!(classify_regime(&d, &p).unwrap(), Regime::BoundaryReached);
+        d.wear_particle_size = Some(0.25);
+        assert_eq!(classify_regime(&d, &p).unwrap(), Regime::GrowingParticles);
         assert!(classify_regime(&data(f64::NAN, 0.0, steady), &p).is_err());
         assert_eq!(Regime::ShearBand.label(), "shear_band");
     }

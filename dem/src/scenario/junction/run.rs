@@ -11,7 +11,9 @@ use crate::error::{DemError, Result};
 use crate::io::progress::{self, ProgressFile};
 use crate::io::Sig;
 use crate::material::PairModel;
-use crate::observe::{periodicity, Dump, ForceSample, GroupForce, MemberFrames, Observer};
+use crate::observe::{
+    periodicity, unwrapped, Dump, ForceSample, GroupForce, MemberFrames, Observer,
+};
 use crate::sample::Sample;
 use crate::scenario::driven::{self, dump_for, sliding_top, Recorders, Schedule, Snapshot};
 use crate::scenario::rig::{Rig, RigSpec};
@@ -247,17 +249,6 @@ pub fn run_resumable(
         last,
         wall_seconds: recorded.wall_seconds,
     })
-}
-
-/// Every particle's position on its continuous path (the cluster analysis follows each bond's
-/// periodic image from the first frame to the last).
-fn unwrapped(sim: &Simulation) -> Vec<[f64; 3]> {
-    (0..sim.particles.len())
-        .map(|i| {
-            let x = sim.unwrapped_position(i);
-            [x.x, x.y, x.z]
-        })
-        .collect()
 }
 
 /// The tangential force at the sample nearest to `step` (0 before the first sample).

@@ -52,6 +52,7 @@
 mod geometry;
 mod run;
 mod strength;
+mod wear_probe;
 
 use serde::{Deserialize, Serialize};
 use wear::tbl::{LayerParams, RegimeParams};
@@ -69,6 +70,7 @@ pub use strength::{
     flow_stress, measure_strength, FlowStress, MaterialStrength, MeasuredPeak, StrengthTests,
     MIN_FLOW_WINDOW,
 };
+pub use wear_probe::{WearRecord, WearSummary};
 
 /// The material of paper 004: its strength and one of its surface energy or critical size.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -177,6 +179,10 @@ pub struct SlidingConfig {
     pub layer: LayerParams,
     /// Regime thresholds; default [`RegimeParams::default`].
     pub regime: RegimeParams,
+    /// Particles a loose cluster needs to count as a wear particle (`wear::tbl::wear_particles`);
+    /// default 10: about 2 d0 across in the 3 d0 thick box, twice the largest particle, where the
+    /// crumbs of a flowing band are single particles and pairs.
+    pub wear_particle_members: usize,
 }
 
 impl Default for SlidingConfig {
@@ -210,6 +216,7 @@ impl Default for SlidingConfig {
             strength_tests: StrengthTests::default(),
             layer: LayerParams::default(),
             regime: RegimeParams::default(),
+            wear_particle_members: 10,
         }
     }
 }
@@ -371,6 +378,9 @@ impl SlidingConfig {
                  least 1",
                 self.bins, self.layer.sg_window
             ));
+        }
+        if self.wear_particle_members < 1 {
+            return bad("wear_particle_members must be at least 1".to_string());
         }
         if !(self.steady_from >= 0.0 && self.steady_from < 1.0) {
             return bad(format!(

@@ -10,6 +10,7 @@ use wear::tbl::{
     TblBounds,
 };
 
+use super::wear_probe::{WearProbe, WearProbeSpec, WearRecord, WearSummary};
 use super::{build, SlidingConfig};
 use crate::error::{DemError, Result};
 use crate::io::progress::{self, ProgressFile};
@@ -277,6 +278,13 @@ pub struct SlidingResult {
     pub p_n: f64,
     pub tau_m: f64,
     pub regime: Regime,
+    /// The layer's wear particles at the end of every window (module `wear_probe`; results of older
+    /// runs have none).
+    #[serde(default)]
+    pub wear: Vec<WearRecord>,
+    /// Their summary (lengths over L; none without records).
+    #[serde(default)]
+    pub wear_summary: Option<WearSummary>,
     /// Every particle at the start and the end (`body` holds the initial-height band).
     pub first: Snapshot,
     pub last: Snapshot,
@@ -290,11 +298,18 @@ struct Records {
     probe: ProfileProbe,
     top: GroupForce,
     bottom: GroupForce,
+    /// None in the progress files of older runs, which resume without it.
+    #[serde(default)]
+    wear: Option<WearProbe>,
 }
 
 impl Recorders for Records {
     fn observers(&mut self) -> Vec<&mut dyn Observer> {
-        vec![&mut self.probe, &mut self.top, &mut self.bottom]
+        let mut o: Vec<&mut dyn Observer> = vec![&mut self.probe, &mut self.top, &mut self.bottom];
+        if let Some(w) = self.wear.as_mut() {
+            o.push(w);
+        }
+        o
     }
 }
 
@@ -379,6 +394,15 @@ pub fn run_resumable(
         - p.pos[rig.top_ref].y;
     let lengths = rig.sim.sim_box.lengths();
     let rho0 = relaxed.particles.mass.iter().sum::<f64>() / relaxed.sim_box.volume();
+    let volume_fraction = relaxed
+        .particles
+        .radius
+        .iter()
+        .map(|r| 4.0 / 3.0 * std::f64::consts::PI * r.powi(3))
+        .sum::<f64>()
+        / relaxed.sim_box.volume();
+    let r0 = 0.5 * d0;
+    let bond_margin = model.params(r0, r0, 1.0, 1.0).delta_f;
     let band: Vec<u32> = geo
         .height0
         .iter()
@@ -418,6 +442,18 @@ pub fn run_resumable(
             },
             top: GroupForce::new(sim, top.clone(), force_every)?,
             bottom: GroupForce::new(sim, bottom.clone(), force_every)?,
+            wear: Some(WearProbe::new(
+                sim,
+                WearProbeSpec {
+                    every: window_steps,
+                    margin: bond_margin,
+                    free: rig.free.clone(),
+                    volume_fraction,
+                    min_members: cfg.wear_particle_members,
+                    v0,
+                    ramp,
+                },
+            )?),
         };
         let dump = dump_for(sim, dump, cfg.dump_frames, total, || {
             vec![
@@ -460,6 +496,13 @@ pub fn run_resumable(
         .collect();
     let p_t = steady_forces.iter().sum::<f64>() / steady_forces.len().max(1) as f64;
     let faces = st.probe.fit_params(profile.height).0;
+    let wear = st.wear.map(|w| w.records).unwrap_or_default();
+    let wear_summary = WearSummary::of(
+        &wear,
+        |w| w.step + 1 >= steady_step + window_steps,
+        cfg.wear_particle_members,
+        cfg.length,
+    );
     let regime = classify_regime(
         &RegimeData {
             rho_tbl: layer.rho_tbl,
@@ -469,6 +512,7 @@ pub fn run_resumable(
             bounds: layer.bounds,
             faces,
             d0: d0 / profile.height,
+            wear_particle_size: wear_summary.map(|w| w.steady_largest_over_l),
         },
         &cfg.regime,
     )
@@ -525,6 +569,8 @@ pub fn run_resumable(
         windows_at_body,
         interior,
         windows: st.probe.windows.clone(),
+        wear_summary,
+        wear,
         force_top: st.top.samples.clone(),
         force_bottom: st.bottom.samples.clone(),
         rho_tbl: layer.rho_tbl,

@@ -85,7 +85,11 @@ pub(super) fn page(
          profile, averaged over the steady half of the run. A TBL whose boundary lies within half a \
          diameter of a rigid body's face has reached the body (the phase paper 004 drops, label \
          boundary_reached); the interior phase is the windows after the first tenth of the run whose \
-         TBL lies inside the material, the paper's first stationary phase.</p>\n",
+         TBL lies inside the material, the paper's first stationary phase. Wear particles are the \
+         clusters of layer material of at least 10 particles whose bonds of one window ago persist \
+         and reach neither body (the junction's cluster rule; Fig. 3a and 3c); the largest one's \
+         size is the diameter of a cylinder through the box that holds it, over L, and one a fifth \
+         of the system across makes the run growing_particles.</p>\n",
     );
     if profile == Profile::Quick {
         h += "<p class=\"note\">Quick profile: L = 20 d0, 5 L of sliding, 100 bins, one seed; d* = 0.2 L \
@@ -135,11 +139,13 @@ pub(super) fn page(
     h += "<table><tr><th>p_N (E)</th><th>sigma_m (E)</th><th>L (d0)</th><th>regime</th><th>rho_TBL / rho_0</th>\
           <th>h_TBL / H</th><th>agitation (v0)</th><th>p_T (E)</th><th>p_T / tau_m</th>\
           <th>p_T / (tau_m rho_TBL / rho_0)</th><th>p_T / tau_flow</th><th>TBL at a body from (L)</th>\
-          <th>interior windows</th><th>interior p_T / tau_m</th><th>particles</th><th>run (s)</th></tr>\n";
+          <th>interior windows</th><th>interior p_T / tau_m</th>\
+          <th>wear particles (steady mean)</th><th>largest wear particle (L)</th>\
+          <th>particles</th><th>run (s)</th></tr>\n";
     for o in outs {
         let r = &o.summary;
         h += &format!(
-            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.3}</td><td>{:.3}</td><td>{}</td><td>{:.2e}</td><td>{:.2}</td><td>{:.2}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.0}</td></tr>\n",
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.3}</td><td>{:.3}</td><td>{}</td><td>{:.2e}</td><td>{:.2}</td><td>{:.2}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.0}</td></tr>\n",
             r.p_n,
             r.strength,
             l_over_d0(r.d0_over_l),
@@ -158,6 +164,12 @@ pub(super) fn page(
             r.interior
                 .as_ref()
                 .map_or("-".to_string(), |i| format!("{:.2}", i.p_t_over_tau_m)),
+            r.wear_particles
+                .map_or("-".to_string(), |w| format!("{:.1}", w.steady_count)),
+            r.wear_particles.map_or("-".to_string(), |w| format!(
+                "{:.3} at {:.1} L",
+                w.max_largest_over_l, w.max_at_l
+            )),
             r.particles,
             r.run_seconds
         );
