@@ -87,6 +87,9 @@ pub fn run(args: ReportArgs, threads: usize) -> Result<()> {
     } else {
         threads
     };
+    if let Some(only) = &args.only {
+        report::check_sections(only)?;
+    }
     let cache = args.cache.clone();
     let md_cache = cache
         .clone()

@@ -115,3 +115,23 @@ fn an_interrupted_report_resumes_from_its_cache() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A mistyped `--only` is refused before anything runs, with the sections to choose from, and not
+/// reported as a stopped report to rerun.
+#[test]
+fn an_unknown_section_is_an_input_error_that_names_the_sections() {
+    let out = common::scratch("report-bad-only");
+    let o = Command::new(env!("CARGO_BIN_EXE_cgdem"))
+        .args(["report", "--only", "sliding", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("no section 'sliding'") && err.contains("wear-sliding"),
+        "{err}"
+    );
+    assert!(!err.contains("rerun the same command"), "{err}");
+    assert!(!out.join("cache").exists(), "nothing runs");
+}

@@ -282,6 +282,25 @@ impl Written {
     }
 }
 
+/// Whether every id of `only` names a section: an error naming the sections otherwise (before
+/// anything runs, so a mistyped `--only` is an input error, not a stopped report).
+pub fn check_sections(only: &[String]) -> Result<()> {
+    let all = sections::all();
+    match only
+        .iter()
+        .find(|id| !all.iter().any(|s| s.id == id.as_str()))
+    {
+        Some(id) => {
+            let ids: Vec<&str> = all.iter().map(|s| s.id).collect();
+            Err(ValidationError::Report(format!(
+                "no section '{id}'; sections: {}",
+                ids.join(", ")
+            )))
+        }
+        None => Ok(()),
+    }
+}
+
 /// Runs the report: every selected section, timed, then the files. An interrupt (Ctrl-C) stops it
 /// with [`DemError::Interrupted`]: the finished cases are in the cache and the next run reuses them.
 /// A section that fails otherwise is reported in the page (and as a failing claim) and the others
@@ -290,15 +309,7 @@ pub fn run(opts: &Options, observer: &dyn Observer) -> Result<Written> {
     let t0 = Instant::now();
     let all = sections::all();
     if let Some(only) = &opts.only {
-        for id in only {
-            if !all.iter().any(|s| s.id == id) {
-                let ids: Vec<&str> = all.iter().map(|s| s.id).collect();
-                return Err(ValidationError::Report(format!(
-                    "no section '{id}'; sections: {}",
-                    ids.join(", ")
-                )));
-            }
-        }
+        check_sections(only)?;
     }
     let chosen: Vec<Section> = all
         .into_iter()

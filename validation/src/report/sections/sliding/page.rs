@@ -166,10 +166,13 @@ pub(super) fn page(
                 .map_or("-".to_string(), |i| format!("{:.2}", i.p_t_over_tau_m)),
             r.wear_particles
                 .map_or("-".to_string(), |w| format!("{:.1}", w.steady_count)),
-            r.wear_particles.map_or("-".to_string(), |w| format!(
-                "{:.3} at {:.1} L",
-                w.max_largest_over_l, w.max_at_l
-            )),
+            r.wear_particles.map_or("-".to_string(), |w| {
+                if w.max_largest_over_l > 0.0 {
+                    format!("{:.3} at {:.1} L", w.max_largest_over_l, w.max_at_l)
+                } else {
+                    "none".to_string()
+                }
+            }),
             r.particles,
             r.run_seconds
         );
