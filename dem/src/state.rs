@@ -17,10 +17,16 @@ pub fn sphere_inertia(mass: f64, radius: f64) -> f64 {
     0.4 * mass * radius * radius
 }
 
+/// Volume of a sphere.
+#[inline]
+pub fn sphere_volume(radius: f64) -> f64 {
+    4.0 / 3.0 * std::f64::consts::PI * radius.powi(3)
+}
+
 /// Mass of a sphere of density `rho`.
 #[inline]
 pub fn sphere_mass(rho: f64, radius: f64) -> f64 {
-    rho * 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3)
+    rho * sphere_volume(radius)
 }
 
 /// All particles of a simulation. Index `i` in every vector is the same particle.
@@ -168,10 +174,7 @@ impl Particles {
 
     /// Total volume of the spheres.
     pub fn solid_volume(&self) -> f64 {
-        self.radius
-            .iter()
-            .map(|r| 4.0 / 3.0 * std::f64::consts::PI * r.powi(3))
-            .sum()
+        self.radius.iter().map(|&r| sphere_volume(r)).sum()
     }
 
     /// Checks lengths and that every attribute is finite and physical.

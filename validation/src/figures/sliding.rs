@@ -158,13 +158,8 @@ pub fn draw_wear_particles(
         .wear
         .iter()
         .map(|w| {
-            let p = &w.particles;
-            let d = if p.largest >= min_members {
-                p.largest_diameter / length
-            } else {
-                0.0
-            };
-            (w.slide / length, d)
+            let d = w.particles.wear_particle_diameter(min_members);
+            (w.slide / length, d / length)
         })
         .collect();
     let detached: Vec<(f64, f64)> = r

@@ -40,6 +40,18 @@ pub struct WearParticles {
     pub largest_diameter: f64,
 }
 
+impl WearParticles {
+    /// The largest loose cluster's equivalent diameter if it is a wear particle (at least
+    /// `min_members` particles), else 0: the size a run's summary and figures read.
+    pub fn wear_particle_diameter(&self, min_members: usize) -> f64 {
+        if self.largest >= min_members {
+            self.largest_diameter
+        } else {
+            0.0
+        }
+    }
+}
+
 /// Where the layer is and how its clusters are sized.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LayerGeometry<'a> {
@@ -163,9 +175,11 @@ mod tests {
         // 16 volumes at phi_0 = 1/2 through B = 2 fill a cross-section of 16.
         let d = (4.0 * 16.0 / std::f64::consts::PI).sqrt();
         assert!((w.largest_diameter - d).abs() < 1e-12);
+        assert_eq!(w.wear_particle_diameter(16), w.largest_diameter);
         // Below the size threshold it is still the largest loose cluster, but not a wear particle.
         let w = wear_particles(&first, &later, &bonding(n), &layer, &bodies, &geo, 17).unwrap();
         assert_eq!((w.count, w.largest), (0, 16));
+        assert_eq!(w.wear_particle_diameter(17), 0.0);
     }
 
     #[test]

@@ -380,6 +380,8 @@ pub fn run_resumable(
     let window_steps = every * cfg.samples_per_window;
     let force_every = (total / cfg.force_samples).max(1);
     let steady_step = (cfg.steady_from * total as f64).ceil() as u64;
+    // A window is steady if it opened at or after the steady step (it closes at `step`).
+    let steady = |step: u64| step + 1 >= steady_step + window_steps;
     let p = &rig.sim.particles;
     let members = |g: u32| -> Vec<usize> { (0..p.len()).filter(|&i| p.group[i] == g).collect() };
     let (bottom, top) = (members(BOTTOM), members(TOP));
@@ -394,13 +396,7 @@ pub fn run_resumable(
         - p.pos[rig.top_ref].y;
     let lengths = rig.sim.sim_box.lengths();
     let rho0 = relaxed.particles.mass.iter().sum::<f64>() / relaxed.sim_box.volume();
-    let volume_fraction = relaxed
-        .particles
-        .radius
-        .iter()
-        .map(|r| 4.0 / 3.0 * std::f64::consts::PI * r.powi(3))
-        .sum::<f64>()
-        / relaxed.sim_box.volume();
+    let volume_fraction = relaxed.volume_fraction();
     let r0 = 0.5 * d0;
     let bond_margin = model.params(r0, r0, 1.0, 1.0).delta_f;
     let band: Vec<u32> = geo
@@ -465,12 +461,8 @@ pub fn run_resumable(
     };
     let recorded = driven::run_resumable(&mut rig.sim, par, schedule, fresh, report)?;
     let st = recorded.records;
-    let steady_windows: Vec<&WindowRecord> = st
-        .probe
-        .windows
-        .iter()
-        .filter(|w| w.step + 1 >= steady_step + window_steps)
-        .collect();
+    let steady_windows: Vec<&WindowRecord> =
+        st.probe.windows.iter().filter(|w| steady(w.step)).collect();
     if st.probe.steady.samples == 0 {
         return Err(DemError::InvalidConfig(format!(
             "sliding: no complete window after steady_from = {} of the run ({} steps, windows of {}); \
@@ -499,7 +491,7 @@ pub fn run_resumable(
     let wear = st.wear.map(|w| w.records).unwrap_or_default();
     let wear_summary = WearSummary::of(
         &wear,
-        |w| w.step + 1 >= steady_step + window_steps,
+        |w| steady(w.step),
         cfg.wear_particle_members,
         cfg.length,
     );
@@ -533,7 +525,7 @@ pub fn run_resumable(
     let steady_windows_at_body = windows
         .iter()
         .zip(&windows_at_body)
-        .filter(|(w, &at)| at && w.step + 1 >= steady_step + window_steps)
+        .filter(|(w, &at)| at && steady(w.step))
         .count();
     let inside: Vec<bool> = windows
         .iter()

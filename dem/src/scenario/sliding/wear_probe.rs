@@ -16,6 +16,7 @@ use super::run::slide;
 use crate::error::{DemError, Result};
 use crate::observe::{periodicity, unwrapped, Observer};
 use crate::sim::Simulation;
+use crate::state::sphere_volume;
 
 /// The wear particles at the end of one window.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -92,10 +93,7 @@ impl Observer for WearProbe {
     fn observe(&mut self, sim: &Simulation) -> Result<()> {
         let now = unwrapped(sim);
         let radius = &sim.particles.radius;
-        let volume: Vec<f64> = radius
-            .iter()
-            .map(|r| 4.0 / 3.0 * std::f64::consts::PI * r.powi(3))
-            .collect();
+        let volume: Vec<f64> = radius.iter().map(|&r| sphere_volume(r)).collect();
         let bonding = Bonding {
             radii: Some(radius.clone()),
             margin: self.margin,
@@ -150,13 +148,7 @@ impl WearSummary {
         min_members: usize,
         length: f64,
     ) -> Option<Self> {
-        let size = |r: &WearRecord| {
-            if r.particles.largest >= min_members {
-                r.particles.largest_diameter / length
-            } else {
-                0.0
-            }
-        };
+        let size = |r: &WearRecord| r.particles.wear_particle_diameter(min_members) / length;
         let last = records.last()?;
         let st: Vec<&WearRecord> = records.iter().filter(|r| steady(r)).collect();
         let mean = |f: &dyn Fn(&WearRecord) -> f64| {
