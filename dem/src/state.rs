@@ -23,10 +23,12 @@ pub fn sphere_volume(radius: f64) -> f64 {
     4.0 / 3.0 * std::f64::consts::PI * radius.powi(3)
 }
 
-/// Mass of a sphere of density `rho`.
+/// Mass of a sphere of density `rho`. Written out rather than as `rho * sphere_volume(radius)`: the
+/// products in this order are what every sample and cached result was made with (another order
+/// changes masses in the last bit for rho != 1).
 #[inline]
 pub fn sphere_mass(rho: f64, radius: f64) -> f64 {
-    rho * sphere_volume(radius)
+    rho * 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3)
 }
 
 /// All particles of a simulation. Index `i` in every vector is the same particle.
