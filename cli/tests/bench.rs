@@ -61,6 +61,11 @@ fn bench_times_cgdem_the_machine_ceiling_and_lammps_on_one_packing() {
     figure(&text, "  cgdem 1 thread, particle-steps/s:", " (");
     figure(&text, "  speed-up at 2 threads:", " (");
     figure(&text, "  machine ceiling:", " (");
+    figure(
+        &text,
+        "  speed-up at 2 threads over the machine ceiling:",
+        " (",
+    );
     figure(&text, "  LAMMPS 1 process, particle-steps/s:", " (");
     figure(&text, "  ratio cgdem/LAMMPS per core:", " (");
     // The medians as bare lines, last.

@@ -118,6 +118,8 @@ struct Round {
     cgdem: Vec<(usize, f64)>,
     /// Rate of the independent 1-thread copies over one copy's rate.
     ceiling: Option<f64>,
+    /// How many copies the ceiling ran side by side (the largest thread count).
+    copies: usize,
     /// (processes, rate) of LAMMPS.
     lammps: Vec<(usize, f64)>,
 }
@@ -131,6 +133,14 @@ impl Round {
     }
     fn speedup(&self, t: usize) -> Option<f64> {
         Some(self.cgdem(t)? / self.cgdem(1)?)
+    }
+    /// The speed-up at `t` threads over the machine ceiling of `t` copies: what the machine gave one
+    /// thread's work shared against what it gave independent copies in the same round. A host that
+    /// runs a lone vCPU faster than two busy ones lowers the speed-up and the ceiling together, so
+    /// this figure tells the engine's loss (shared data, joins) from the machine's.
+    fn of_ceiling(&self, t: usize) -> Option<f64> {
+        (t == self.copies).then_some(())?;
+        Some(self.speedup(t)? / self.ceiling?)
     }
     /// cgdem on `t` threads over LAMMPS on `t` processes (t = 1: per core).
     fn against_lammps(&self, t: usize) -> Option<f64> {
@@ -339,6 +349,7 @@ fn round(
         let (secs, n) = time_copies(copies, steps, prep)?;
         let rate = (copies * n) as f64 * steps as f64 / secs;
         r.ceiling = r.cgdem(1).map(|r1| rate / r1);
+        r.copies = copies;
         let ceiling = r
             .ceiling
             .map(|x| format!("  machine ceiling {x:.2}x"))
@@ -438,6 +449,13 @@ fn summarise(rounds: &[Round], args: &BenchArgs) {
         spread(rounds.iter().filter_map(|r| r.ceiling)),
         ratio,
     );
+    for &t in &counts_above_one(args) {
+        show(
+            &format!("speed-up at {t} threads over the machine ceiling"),
+            spread(rounds.iter().filter_map(|r| r.of_ceiling(t))),
+            |x| format!("{x:.2}"),
+        );
+    }
     for &p in &args.lammps_procs {
         let label = if p == 1 {
             "LAMMPS 1 process, particle-steps/s".to_string()
@@ -503,11 +521,25 @@ mod tests {
         let r = Round {
             cgdem: vec![(1, 2.0), (2, 3.6)],
             ceiling: None,
+            copies: 0,
             lammps: vec![(1, 1.0), (2, 2.0)],
         };
         assert_eq!(r.speedup(2), Some(1.8));
+        assert_eq!(r.of_ceiling(2), None, "no ceiling measured");
         assert_eq!(r.against_lammps(1), Some(2.0));
         assert_eq!(r.against_lammps(2), Some(1.8));
         assert_eq!(r.against_lammps(4), None);
+    }
+
+    #[test]
+    fn the_speed_up_over_the_ceiling_needs_the_ceiling_of_as_many_copies() {
+        let r = Round {
+            cgdem: vec![(1, 2.0), (2, 3.0), (3, 4.0)],
+            ceiling: Some(1.875),
+            copies: 2,
+            lammps: vec![],
+        };
+        assert_eq!(r.of_ceiling(2), Some(0.8));
+        assert_eq!(r.of_ceiling(3), None, "the ceiling was of 2 copies");
     }
 }
