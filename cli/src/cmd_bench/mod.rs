@@ -116,10 +116,8 @@ struct Timing {
 struct Round {
     /// (threads, rate) of cgdem.
     cgdem: Vec<(usize, f64)>,
-    /// Rate of the independent 1-thread copies over one copy's rate.
-    ceiling: Option<f64>,
-    /// How many copies the ceiling ran side by side (the largest thread count).
-    copies: usize,
+    /// (copies, rate of that many independent 1-thread copies side by side over one copy's rate).
+    ceiling: Option<(usize, f64)>,
     /// (processes, rate) of LAMMPS.
     lammps: Vec<(usize, f64)>,
 }
@@ -139,8 +137,9 @@ impl Round {
     /// runs a lone vCPU faster than two busy ones lowers the speed-up and the ceiling together, so
     /// this figure tells the engine's loss (shared data, joins) from the machine's.
     fn of_ceiling(&self, t: usize) -> Option<f64> {
-        (t == self.copies).then_some(())?;
-        Some(self.speedup(t)? / self.ceiling?)
+        let (copies, ceiling) = self.ceiling?;
+        (t == copies).then_some(())?;
+        Some(self.speedup(t)? / ceiling)
     }
     /// cgdem on `t` threads over LAMMPS on `t` processes (t = 1: per core).
     fn against_lammps(&self, t: usize) -> Option<f64> {
@@ -348,11 +347,10 @@ fn round(
     if copies > 1 && !args.no_ceiling {
         let (secs, n) = time_copies(copies, steps, prep)?;
         let rate = (copies * n) as f64 * steps as f64 / secs;
-        r.ceiling = r.cgdem(1).map(|r1| rate / r1);
-        r.copies = copies;
+        r.ceiling = r.cgdem(1).map(|r1| (copies, rate / r1));
         let ceiling = r
             .ceiling
-            .map(|x| format!("  machine ceiling {x:.2}x"))
+            .map(|(_, x)| format!("  machine ceiling {x:.2}x"))
             .unwrap_or_default();
         println!("cgdem   {copies} independent 1-thread copies side by side: {rate:.3e} particle-steps/s in all{ceiling}");
         rows.push((format!("cgdem-{copies}x1t"), copies * n, secs, rate));
@@ -446,7 +444,7 @@ fn summarise(rounds: &[Round], args: &BenchArgs) {
     }
     show(
         "machine ceiling",
-        spread(rounds.iter().filter_map(|r| r.ceiling)),
+        spread(rounds.iter().filter_map(|r| r.ceiling.map(|c| c.1))),
         ratio,
     );
     for &t in &counts_above_one(args) {
@@ -521,7 +519,6 @@ mod tests {
         let r = Round {
             cgdem: vec![(1, 2.0), (2, 3.6)],
             ceiling: None,
-            copies: 0,
             lammps: vec![(1, 1.0), (2, 2.0)],
         };
         assert_eq!(r.speedup(2), Some(1.8));
@@ -535,8 +532,7 @@ mod tests {
     fn the_speed_up_over_the_ceiling_needs_the_ceiling_of_as_many_copies() {
         let r = Round {
             cgdem: vec![(1, 2.0), (2, 3.0), (3, 4.0)],
-            ceiling: Some(1.875),
-            copies: 2,
+            ceiling: Some((2, 1.875)),
             lammps: vec![],
         };
         assert_eq!(r.of_ceiling(2), Some(0.8));
