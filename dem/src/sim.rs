@@ -83,6 +83,10 @@ pub struct RunConfig {
     /// as often for a handful more pairs, docs/performance.md. Equal spheres are unaffected.)
     #[serde(default = "default_skin")]
     pub skin_fraction: f64,
+    /// Rebuild only the neighbour rows of the particles that moved (`neighbor::local`); default false,
+    /// because where everything moves (relaxations, patch tests) a full build is cheaper.
+    #[serde(default)]
+    pub local_rebuilds: bool,
     /// Keep the energy ledger up to date every step; default false (it costs a pass over the pairs).
     #[serde(default)]
     pub track_energy: bool,
@@ -108,6 +112,7 @@ impl Default for RunConfig {
             allow_supercritical_dt: false,
             global_damping: 0.0,
             skin_fraction: default_skin(),
+            local_rebuilds: false,
             track_energy: false,
             planar: false,
         }
@@ -258,6 +263,7 @@ impl Simulation {
                 self.list = NeighborList::new(skin)?;
             }
         }
+        self.list.local = c.local_rebuilds;
         self.list.mark_stale();
         Ok(())
     }
@@ -431,17 +437,13 @@ impl Simulation {
         let _step = tracing::trace_span!("step", n = self.step).entered();
         {
             let _s = tracing::trace_span!("neighbor").entered();
-            if self
-                .list
-                .needs_rebuild(&self.particles.pos, &self.sim_box, parallel)
-            {
-                self.list.build(
-                    &mut self.particles.pos,
-                    &self.particles.radius,
-                    &self.sim_box,
-                    &self.coef,
-                )?;
-            }
+            self.list.update(
+                &mut self.particles.pos,
+                &self.particles.radius,
+                &self.sim_box,
+                &self.coef,
+                parallel,
+            )?;
         }
         let stress_control = matches!(self.box_control, BoxControl::Stress { .. });
         let virial = self.want_virial || stress_control;

@@ -3,7 +3,7 @@
 
 use std::collections::BTreeSet;
 
-use dem::neighbor::{Image, NeighborList, PairRange};
+use dem::neighbor::{Image, NeighborList, PairRange, Rebuild, LOCAL_SHARE};
 use dem::{SimBox, Vec3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -276,4 +276,203 @@ fn brute_force_with(
         }
     }
     set
+}
+
+/// Moves the particles `fast` by up to `step` along each axis (a few fast particles in a still
+/// packing, as in a sliding layer's shear band).
+fn agitate(rng: &mut ChaCha8Rng, pos: &mut [Vec3], fast: &[usize], step: f64) {
+    for &k in fast {
+        pos[k] += Vec3::new(
+            rng.gen_range(-step..step),
+            rng.gen_range(-step..step),
+            rng.gen_range(-step..step),
+        );
+    }
+}
+
+#[test]
+fn local_rebuilds_keep_every_pair_in_range_and_search_the_moved_rows_exactly() {
+    // A few particles move fast, a slab moves as one (a body dragged along), and now and then
+    // everything moves: local rebuilds, full ones, and none, each checked against brute force.
+    let mut rng = ChaCha8Rng::seed_from_u64(31);
+    for (lengths, periodic) in [
+        (Vec3::new(10.0, 10.0, 3.0), [true, false, true]),
+        (Vec3::new(8.0, 8.0, 8.0), [true, true, true]),
+    ] {
+        let (mut pos, radius, bx) = random_system(&mut rng, 400, lengths, periodic);
+        let fast: Vec<usize> = (0..8).map(|_| rng.gen_range(0..pos.len())).collect();
+        let everyone: Vec<usize> = (0..pos.len()).collect();
+        let skin = 0.3;
+        let mut list = NeighborList::new(skin).unwrap();
+        list.local = true;
+        let (mut local, mut full) = (0, 0);
+        for step in 0..400 {
+            agitate(&mut rng, &mut pos, &fast, 0.05);
+            if step % 3 == 0 {
+                for x in pos.iter_mut().filter(|x| x.y > lengths.y - 0.6) {
+                    *x += Vec3::new(0.02, 0.0, 0.0);
+                }
+            }
+            if step % 97 == 50 {
+                agitate(&mut rng, &mut pos, &everyone, 0.3);
+            }
+            let what = list
+                .update(&mut pos, &radius, &bx, &Range, step % 2 == 0)
+                .unwrap();
+            list.check(pos.len()).unwrap();
+            let present = listed(&list);
+            for pair in brute_force(&pos, &radius, &bx, 0.0) {
+                assert!(
+                    present.contains(&pair),
+                    "step {step} ({what:?}): {pair:?} interacts but is not listed"
+                );
+            }
+            match what {
+                Rebuild::Local(moved) => {
+                    local += 1;
+                    assert!(!moved.is_empty() && moved.len() * LOCAL_SHARE <= pos.len());
+                    // The searched particles' pairs are exactly those within cutoff plus skin now.
+                    let searched = |&(i, j, _): &(u32, u32, Image)| {
+                        moved.binary_search(&i).is_ok() || moved.binary_search(&j).is_ok()
+                    };
+                    let want: BTreeSet<_> = brute_force(&pos, &radius, &bx, skin)
+                        .into_iter()
+                        .filter(searched)
+                        .collect();
+                    let got: BTreeSet<_> = present.iter().cloned().filter(searched).collect();
+                    assert_eq!(
+                        got,
+                        want,
+                        "step {step}: the rows of {} moved particles",
+                        moved.len()
+                    );
+                }
+                Rebuild::Full => {
+                    full += 1;
+                    assert_eq!(
+                        present,
+                        brute_force(&pos, &radius, &bx, skin),
+                        "step {step}: full build"
+                    );
+                }
+                Rebuild::None => {}
+            }
+        }
+        assert!(
+            local > 20 && full >= 3,
+            "{local} local and {full} full rebuilds: the test must see both"
+        );
+        assert_eq!(list.local_builds, local as u64);
+    }
+}
+
+#[test]
+fn local_rebuilds_survive_the_worst_case_of_their_bound() {
+    // The bound of `neighbor::local`: a pair searched when a moved may since have closed by
+    // D_a + D_b + D_b(then) <= 2 theta_a + theta_s = skin. Here b steps 0.134 away while a steps
+    // out of line (a is searched, the pair dropped at exactly cutoff + skin), then b comes back 0.268
+    // and a closes 0.134: 0.402 of closing from a skin of 0.3, every displacement below theta_a =
+    // 0.135. b's first step is above theta_s = 0.03, so it was searched with a and again when it came
+    // back; a selection at the trigger itself (b left out at the first rebuild) would miss the pair.
+    let skin = 0.3;
+    let bx = SimBox::new(Vec3::zeros(), Vec3::new(20.0, 20.0, 20.0), [false; 3]).unwrap();
+    let (x0, y) = (1.30822, 0.151);
+    let mut pos = vec![Vec3::new(2.0, 5.0, 5.0), Vec3::new(2.0 + x0, 5.0, 5.0)];
+    // Still particles far away, so that two moving ones are a local share.
+    for k in 0..30 {
+        pos.push(Vec3::new(
+            10.0 + 1.5 * (k % 5) as f64,
+            10.0 + 1.5 * (k / 5) as f64,
+            5.0,
+        ));
+    }
+    let radius = vec![0.5; pos.len()];
+    let mut list = NeighborList::new(skin).unwrap();
+    list.local = true;
+    assert_eq!(
+        list.update(&mut pos, &radius, &bx, &Range, false).unwrap(),
+        Rebuild::Full
+    );
+    assert!(listed(&list).contains(&(0, 1, [0, 0, 0])));
+    pos[0].y += y;
+    pos[1].x += 0.134;
+    let sep = (pos[1] - pos[0]).norm();
+    assert!(
+        (sep - (1.15 + skin)).abs() < 1e-3,
+        "the pair sits at cutoff plus skin: {sep}"
+    );
+    list.update(&mut pos, &radius, &bx, &Range, false).unwrap();
+    pos[1].x -= 0.268;
+    pos[0].x += 0.134;
+    list.update(&mut pos, &radius, &bx, &Range, false).unwrap();
+    assert!((pos[1] - pos[0]).norm() < 1.15, "the pair interacts");
+    assert!(
+        listed(&list).contains(&(0, 1, [0, 0, 0])),
+        "the pair closed by 0.402 > skin without a search of it"
+    );
+}
+
+#[test]
+fn local_rebuilds_carry_history_and_agree_serial_and_parallel_for_wide_sizes() {
+    // Radii over a factor 6.7 with the s = 1/2 range: a small moved particle finds its larger
+    // partners in their own reach. Serial and parallel updates give the same list, history kept.
+    let mut rng = ChaCha8Rng::seed_from_u64(41);
+    let (mut pos, _, bx) = random_system(
+        &mut rng,
+        400,
+        Vec3::new(16.0, 12.0, 6.0),
+        [true, false, true],
+    );
+    let radius: Vec<f64> = (0..pos.len())
+        .map(|_| 0.375 * (1.0 + 5.7 * rng.gen::<f64>().powi(4)))
+        .collect();
+    let fast: Vec<usize> = (0..12).map(|_| rng.gen_range(0..pos.len())).collect();
+    let skin = 0.15;
+    let mut a = NeighborList::new(skin).unwrap();
+    a.local = true;
+    a.update(&mut pos, &radius, &bx, &SqrtRange, false).unwrap();
+    // Each pair's history is tagged with its particles.
+    let tag =
+        |list: &NeighborList, p: usize| Vec3::new(f64::from(list.i[p]), f64::from(list.j[p]), 1.0);
+    for p in 0..a.len() {
+        let h = tag(&a, p);
+        a.hist.set(p, h);
+    }
+    let mut b = a.clone();
+    let mut pos_b = pos.clone();
+    let mut local = 0;
+    for step in 0..150 {
+        agitate(&mut rng, &mut pos, &fast, 0.04);
+        pos_b.clone_from(&pos);
+        let what = a.update(&mut pos, &radius, &bx, &SqrtRange, false).unwrap();
+        let what_b = b
+            .update(&mut pos_b, &radius, &bx, &SqrtRange, true)
+            .unwrap();
+        assert_eq!(what, what_b, "step {step}");
+        assert_eq!(a, b, "step {step}: serial and parallel lists differ");
+        assert_eq!(pos, pos_b);
+        local += usize::from(matches!(what, Rebuild::Local(_)));
+        let present = listed(&a);
+        for pair in brute_force_with(&SqrtRange, &pos, &radius, &bx, 0.0) {
+            assert!(
+                present.contains(&pair),
+                "step {step}: {pair:?} interacts but is not listed"
+            );
+        }
+        // Every history belongs to its own pair, and a pair listed from the start kept its own.
+        let mut carried = 0;
+        for p in 0..a.len() {
+            let h = a.hist.get(p);
+            if h != Vec3::zeros() {
+                assert_eq!(h, tag(&a, p), "step {step}: pair {p} has another's history");
+                carried += 1;
+            }
+        }
+        assert!(
+            carried * 2 > a.len(),
+            "step {step}: only {carried} of {} histories kept",
+            a.len()
+        );
+    }
+    assert!(local > 10, "{local} local rebuilds");
 }

@@ -8,7 +8,8 @@
 //! - A pair enters the list when its centre distance is below `r_i + r_j + delta_f + skin`, the
 //!   per-pair range: correct for polydisperse sizes.
 //! - Rebuild criterion: twice the largest displacement since the last build plus the change of the box
-//!   edges exceeds the skin (no pair can then have crossed into range unseen).
+//!   edges exceeds the skin (no pair can then have crossed into range unseen). With
+//!   [`NeighborList::local`], only the rows of the particles that moved are searched again (`local`).
 //! - Positions are wrapped into the box only at a rebuild. The tangential history of a pair survives:
 //!   the old images are corrected by the wraps, then each new pair looks its history up in the old row
 //!   of the same particle (rows hold a dozen pairs, so a linear scan beats any hash map).
@@ -23,6 +24,15 @@ use crate::domain::SimBox;
 use crate::error::{DemError, Result};
 use crate::history::PairHistory;
 use crate::Vec3;
+
+use grid::{Binned, Steps};
+pub use local::{Rebuild, LOCAL_SHARE};
+
+mod grid;
+mod local;
+
+/// Particles per task of a parallel search (and per run of rows sorted together).
+const CHUNK: usize = 512;
 
 /// Periodic image of a pair, in box lengths along each axis.
 pub type Image = [i8; 3];
@@ -57,6 +67,17 @@ pub struct NeighborList {
     /// checkpoints written before it existed, whose particles then count from their next build).
     #[serde(default)]
     pub wraps: Vec<[i32; 3]>,
+    /// Rebuild only the rows of the particles that moved ([`NeighborList::update`]); default false,
+    /// the whole list at once, which is cheaper where everything moves (relaxations, patch tests).
+    #[serde(default)]
+    pub local: bool,
+    /// Whether some particles were searched later than others (a local rebuild since the last full
+    /// build): the rebuild trigger is then a third of the skin per particle, not half of it.
+    #[serde(default)]
+    mixed: bool,
+    /// How many of the `builds` were local.
+    #[serde(default)]
+    pub local_builds: u64,
 }
 
 /// Per-pair interaction range, provided by the force model.
@@ -210,7 +231,39 @@ impl NeighborList {
     ) -> Result<()> {
         let n = pos.len();
         let _span = tracing::trace_span!("neighbor_build", n).entered();
-        // Wrap, remembering by how many box lengths each particle moved, to correct the old images.
+        self.wrap(pos, bx)?;
+        let skin = self.skin;
+        let binned = Binned::new(pos, radius, bx, range, skin)?;
+        // Each pair is found from its larger particle (ties: the higher index).
+        let search = |c: usize| {
+            let mut out: Vec<(u32, u32, Image)> = Vec::new();
+            let mut steps = Steps::default();
+            for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                binned.smaller_partners(i, pos, radius, bx, range, skin, &mut steps, |j, img| {
+                    out.push(ordered(i, j, img))
+                });
+            }
+            out
+        };
+        let chunks = n.div_ceil(CHUNK);
+        let found: Vec<Vec<(u32, u32, Image)>> = if parallel {
+            (0..chunks).into_par_iter().map(search).collect()
+        } else {
+            (0..chunks).map(search).collect()
+        };
+        self.assemble(n, &found, parallel);
+        self.ref_pos.clear();
+        self.ref_pos.extend_from_slice(pos);
+        self.ref_lengths = bx.lengths();
+        self.mixed = false;
+        self.builds += 1;
+        Ok(())
+    }
+
+    /// Wraps `pos` into the box, counting the wraps, and corrects the images of the listed pairs by
+    /// them (so their separations, and the history lookups, stay those of the same pairs).
+    fn wrap(&mut self, pos: &mut [Vec3], bx: &SimBox) -> Result<()> {
+        let n = pos.len();
         let l = bx.lengths();
         let mut wraps: Vec<[i8; 3]> = vec![[0; 3]; n];
         for (x, w) in pos.iter_mut().zip(wraps.iter_mut()) {
@@ -231,13 +284,23 @@ impl NeighborList {
         if self.wraps.len() != n {
             self.wraps = vec![[0; 3]; n];
         }
+        // The reference positions move with their particles, so a local rebuild's displacement of a
+        // particle it did not search stays its real displacement.
+        if self.ref_pos.len() == n {
+            for (r, w) in self.ref_pos.iter_mut().zip(&wraps) {
+                *r -= Vec3::new(
+                    f64::from(w[0]) * l.x,
+                    f64::from(w[1]) * l.y,
+                    f64::from(w[2]) * l.z,
+                );
+            }
+        }
         for (total, w) in self.wraps.iter_mut().zip(&wraps) {
             for a in 0..3 {
                 total[a] += i32::from(w[a]);
             }
         }
-        let old_valid = self.row_start.len() == n + 1;
-        if old_valid {
+        if self.row_start.len() == n + 1 {
             for p in 0..self.i.len() {
                 let (wi, wj) = (wraps[self.i[p] as usize], wraps[self.j[p] as usize]);
                 for a in 0..3 {
@@ -245,87 +308,14 @@ impl NeighborList {
                 }
             }
         }
+        Ok(())
+    }
 
-        let r_max = radius.iter().cloned().fold(0.0, f64::max);
-        let skin = self.skin;
-        let rc = range.max_cutoff(r_max) + skin;
-        let grid = CellGrid::new(pos, bx, rc, cell_edge(radius, range, skin))?;
-        let (cell_start, mut cell_particles) = grid.bin(pos);
-        // Each cell's particles by ascending radius (ties by index), so that a particle's scan of a
-        // cell stops at the first larger partner: those pairs are found from the other side.
-        for w in cell_start.windows(2) {
-            cell_particles[w[0] as usize..w[1] as usize].sort_unstable_by(|&a, &b| {
-                radius[a as usize]
-                    .total_cmp(&radius[b as usize])
-                    .then(a.cmp(&b))
-            });
-        }
-        // Positions and radii in cell order, so that a cell's candidates are read from one run of
-        // memory.
-        let cell_xr: Vec<[f64; 4]> = cell_particles
-            .iter()
-            .map(|&j| {
-                let (x, r) = (pos[j as usize], radius[j as usize]);
-                [x.x, x.y, x.z, r]
-            })
-            .collect();
-
-        // Each pair is found from its larger particle (ties: the higher index), which searches the
-        // cells within its own reach only: a small particle never scans for the largest partner's range.
-        const CHUNK: usize = 512;
-        let search = |c: usize| {
-            let mut out: Vec<(u32, u32, Image)> = Vec::new();
-            let mut steps: [Vec<AxisStep>; 3] = Default::default();
-            for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
-                let (xi, ri) = (pos[i], radius[i]);
-                // Every partner's cutoff is below this reach; the cheap bound ri + rj + beyond
-                // screens candidates before the exact (possibly powf) cutoff is evaluated.
-                let reach = range.max_cutoff(ri) + skin;
-                let beyond = range.beyond_contact(ri) + skin;
-                grid.for_each_cell_within(grid.cell_of(&xi), reach, &mut steps, |cell, img| {
-                    let o = bx.shift(img) - xi;
-                    let (s, e) = (cell_start[cell] as usize, cell_start[cell + 1] as usize);
-                    for (&j, &[x, y, z, rj]) in cell_particles[s..e].iter().zip(&cell_xr[s..e]) {
-                        // A cell's particles are in ascending radius: the rest are all larger.
-                        if rj > ri {
-                            break;
-                        }
-                        let j = j as usize;
-                        let larger = rj < ri || (rj == ri && j < i);
-                        if !(larger || (j == i && positive_image(img))) {
-                            continue;
-                        }
-                        let (dx, dy, dz) = (x + o.x, y + o.y, z + o.z);
-                        let d2 = dx * dx + dy * dy + dz * dz;
-                        // (Rounded up by a part in 1e12, so that rounding never lets the screen
-                        // drop a pair the exact cutoff keeps.)
-                        let rough = (ri + rj + beyond) * (1.0 + 1e-12);
-                        if d2 >= rough * rough {
-                            continue;
-                        }
-                        // The exact test on the separation as the force loop computes it.
-                        let d2 = (pos[j] + bx.shift(img) - xi).norm_squared();
-                        let cut = range.cutoff(ri, rj) + skin;
-                        if d2 < cut * cut {
-                            // Stored as (lower index, higher index, image of the higher seen from
-                            // the lower).
-                            out.push(if j < i {
-                                (j as u32, i as u32, img.map(|s| -s))
-                            } else {
-                                (i as u32, j as u32, img)
-                            });
-                        }
-                    }
-                });
-            }
-            out
-        };
-        let chunks = n.div_ceil(CHUNK);
-        let found: Vec<Vec<(u32, u32, Image)>> = if parallel {
-            (0..chunks).into_par_iter().map(search).collect()
-        } else {
-            (0..chunks).map(search).collect()
-        };
+    /// Replaces the pairs by `found` (distinct `(i, j, image)` with `i <= j`, in any order and split):
+    /// rows by counting sort on the first particle, each sorted by (second particle, image), so the
+    /// order is the same however the search was split; the history of every pair that was already
+    /// listed is carried over; the reverse index is rebuilt.
+    fn assemble(&mut self, n: usize, found: &[Vec<(u32, u32, Image)>], parallel: bool) {
         // Rows by counting sort on the first particle, each sorted by (second particle, image): the
         // pairs are distinct, so the order is the same however the search was split.
         let total: usize = found.iter().map(Vec::len).sum();
@@ -365,7 +355,7 @@ impl NeighborList {
         let new_img: Vec<Image> = slots.iter().map(|s| s.1).collect();
         // Carry the history over: same (i, j, image) in the old row of i.
         let mut new_hist = PairHistory::zeros(total);
-        if old_valid {
+        if self.row_start.len() == n + 1 {
             for i in 0..n {
                 let (ns, ne) = (row_start[i] as usize, row_start[i + 1] as usize);
                 let (os, oe) = (self.row_start[i] as usize, self.row_start[i + 1] as usize);
@@ -400,11 +390,6 @@ impl NeighborList {
         self.row_start = row_start;
         self.rev_start = rev_start;
         self.rev_pair = rev_pair;
-        self.ref_pos.clear();
-        self.ref_pos.extend_from_slice(pos);
-        self.ref_lengths = l;
-        self.builds += 1;
-        Ok(())
     }
 
     /// Forces a rebuild at the next step (the cutoffs changed), keeping the history.
@@ -414,32 +399,28 @@ impl NeighborList {
 
     /// Forgets all pairs and history (after particles were added or removed).
     pub fn invalidate(&mut self) {
-        let skin = self.skin;
+        let (skin, local) = (self.skin, self.local);
         *self = NeighborList {
             skin,
+            local,
             ..Default::default()
         };
+    }
+}
+
+/// A pair found from particle `i` with partner `j` at image `img`, stored as (lower index, higher
+/// index, image of the higher seen from the lower).
+fn ordered(i: usize, j: usize, img: Image) -> (u32, u32, Image) {
+    if j < i {
+        (j as u32, i as u32, img.map(|s| -s))
+    } else {
+        (i as u32, j as u32, img)
     }
 }
 
 /// Keeps one of the two equivalent self-image pairs (s and -s).
 fn positive_image(s: Image) -> bool {
     s > [0, 0, 0]
-}
-
-/// The cell edge of a build: the reach of a pair of median particles. Cells sized for the largest
-/// range (one cell across it) would hold hundreds of the small particles of a wide size distribution,
-/// all of them candidates of every neighbour; with this edge, most particles search their 27 cells
-/// and only the larger ones reach further ([`CellGrid::for_each_cell_within`]). Equal spheres get
-/// the largest range, as before.
-fn cell_edge(radius: &[f64], range: &impl PairRange, skin: f64) -> f64 {
-    if radius.is_empty() {
-        return 0.0;
-    }
-    let mut r = radius.to_vec();
-    let mid = r.len() / 2;
-    let (_, median, _) = r.select_nth_unstable_by(mid, f64::total_cmp);
-    range.max_cutoff(*median) + skin
 }
 
 /// `slots` cut at the first pair of every `chunk`-th row (for sorting the rows in parallel).
@@ -453,174 +434,4 @@ fn split_rows<'a, T>(mut slots: &'a mut [T], row_start: &[u32], chunk: usize) ->
         slots = tail;
     }
     parts
-}
-
-/// Uniform cell grid over the box (periodic axes) or over the particles' extent (other axes).
-struct CellGrid {
-    lo: Vec3,
-    size: Vec3,
-    n: [usize; 3],
-    periodic: [bool; 3],
-}
-
-impl CellGrid {
-    /// A grid of cells of about `edge` (at least one per axis, at most about 8 per particle), over a
-    /// box whose periodic axes must be longer than the largest reach `rc`.
-    fn new(pos: &[Vec3], bx: &SimBox, rc: f64, edge: f64) -> Result<Self> {
-        let mut lo = bx.lo;
-        let mut ext = bx.lengths();
-        let mut n = [1usize; 3];
-        // Cap the grid at about 8 cells per particle so sparse non-periodic systems stay cheap.
-        let cap = ((8 * pos.len().max(1)) as f64).cbrt().ceil() as usize + 2;
-        for a in 0..3 {
-            if bx.periodic[a] {
-                if ext[a] < rc {
-                    return Err(DemError::InvalidBox(format!(
-                        "periodic axis {a} is {:.6e} long, shorter than one interaction range plus skin ({rc:.6e})",
-                        ext[a]
-                    )));
-                }
-            } else {
-                let (mn, mx) = pos
-                    .iter()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(mn, mx), x| {
-                        (mn.min(x[a]), mx.max(x[a]))
-                    });
-                if pos.is_empty() {
-                    lo[a] = 0.0;
-                    ext[a] = rc;
-                } else {
-                    lo[a] = mn;
-                    ext[a] = (mx - mn).max(rc) * (1.0 + 1e-9);
-                }
-            }
-            n[a] = ((ext[a] / edge.max(1e-300 * ext[a])).floor() as usize).clamp(1, cap);
-        }
-        let size = Vec3::new(
-            ext[0] / n[0] as f64,
-            ext[1] / n[1] as f64,
-            ext[2] / n[2] as f64,
-        );
-        Ok(CellGrid {
-            lo,
-            size,
-            n,
-            periodic: bx.periodic,
-        })
-    }
-
-    fn count(&self) -> usize {
-        self.n[0] * self.n[1] * self.n[2]
-    }
-
-    fn coords(&self, x: &Vec3) -> [usize; 3] {
-        let mut c = [0usize; 3];
-        for a in 0..3 {
-            let k = ((x[a] - self.lo[a]) / self.size[a]).floor();
-            c[a] = (k.max(0.0) as usize).min(self.n[a] - 1);
-        }
-        c
-    }
-
-    fn cell_of(&self, x: &Vec3) -> usize {
-        let c = self.coords(x);
-        c[0] + self.n[0] * (c[1] + self.n[1] * c[2])
-    }
-
-    /// Counting sort of particles into cells: (start offsets, particle indices), stable in index order.
-    fn bin(&self, pos: &[Vec3]) -> (Vec<u32>, Vec<u32>) {
-        let nc = self.count();
-        let cells: Vec<usize> = pos.iter().map(|x| self.cell_of(x)).collect();
-        let mut start = vec![0u32; nc + 1];
-        for &c in &cells {
-            start[c + 1] += 1;
-        }
-        for k in 0..nc {
-            start[k + 1] += start[k];
-        }
-        let mut fill = start.clone();
-        let mut parts = vec![0u32; pos.len()];
-        for (p, &c) in cells.iter().enumerate() {
-            parts[fill[c] as usize] = p as u32;
-            fill[c] += 1;
-        }
-        (start, parts)
-    }
-
-    /// Calls `f(cell, image)` for every cell within `reach` of `cell` (27 cells when the reach is one
-    /// cell edge) in the unwrapped tiling, with the image of each periodic copy; every (cell, image)
-    /// combination is distinct even when an axis has one or two cells. Images beyond one box length
-    /// are left out: positions lie in the box and every range is shorter than it. `steps` is scratch
-    /// for the three axes' offsets, reused across calls: a large particle's stencil has hundreds of
-    /// cells but only 2k + 1 offsets per axis, each costing an integer division once, not per cell.
-    fn for_each_cell_within(
-        &self,
-        cell: usize,
-        reach: f64,
-        steps: &mut [Vec<AxisStep>; 3],
-        mut f: impl FnMut(usize, Image),
-    ) {
-        let c = [
-            cell % self.n[0],
-            (cell / self.n[0]) % self.n[1],
-            cell / (self.n[0] * self.n[1]),
-        ];
-        for (a, out) in steps.iter_mut().enumerate() {
-            let k = (reach / self.size[a]).ceil().max(1.0) as i64;
-            self.axis_steps(a, c[a], k, out);
-        }
-        // Cells of a large stencil whose nearest point lies beyond the reach are skipped (about
-        // half of the cube for the largest particles); the 27 nearest always stay.
-        let reach2 = reach * reach;
-        let [xs, ys, zs] = &*steps;
-        for sz in zs {
-            for sy in ys {
-                let gyz = sz.gap2 + sy.gap2;
-                if gyz >= reach2 {
-                    continue;
-                }
-                let row = self.n[0] * (sy.cell + self.n[1] * sz.cell);
-                for sx in xs {
-                    if gyz + sx.gap2 >= reach2 {
-                        continue;
-                    }
-                    f(sx.cell + row, [sx.img, sy.img, sz.img]);
-                }
-            }
-        }
-    }
-
-    /// The offsets -k..=k from cell coordinate `c` along axis `a` that exist: the cell, its image
-    /// (periodic axes, at most one box length away) and the squared gap between the two cells.
-    fn axis_steps(&self, a: usize, c: usize, k: i64, out: &mut Vec<AxisStep>) {
-        out.clear();
-        let na = self.n[a] as i64;
-        for d in -k..=k {
-            let u = c as i64 + d;
-            let (cell, img) = if self.periodic[a] {
-                let img = u.div_euclid(na);
-                if img.abs() > 1 {
-                    continue;
-                }
-                (u.rem_euclid(na) as usize, img as i8)
-            } else if (0..na).contains(&u) {
-                (u as usize, 0)
-            } else {
-                continue;
-            };
-            let gap = (d.abs() - 1).max(0) as f64 * self.size[a];
-            out.push(AxisStep {
-                cell,
-                img,
-                gap2: gap * gap,
-            });
-        }
-    }
-}
-
-/// One offset of a stencil along one axis (see [`CellGrid::axis_steps`]).
-struct AxisStep {
-    cell: usize,
-    img: i8,
-    gap2: f64,
 }
