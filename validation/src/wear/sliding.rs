@@ -176,6 +176,11 @@ pub struct SlidingSummary {
     pub dt: f64,
     pub steady_windows: usize,
     pub run_seconds: f64,
+    /// Neighbour-list builds of the run, and how many were local (`sliding.local_rebuilds`).
+    #[serde(default)]
+    pub neighbour_builds: u64,
+    #[serde(default)]
+    pub local_builds: u64,
     /// What relaxing the run's box took when it was relaxed (once, in the samples cache, for the run
     /// and its strength job alike).
     pub relax_seconds: f64,
@@ -462,6 +467,8 @@ pub fn run_sliding_with(
         dt: r.dt,
         steady_windows: r.steady_windows,
         run_seconds: r.wall_seconds,
+        neighbour_builds: r.neighbour_builds,
+        local_builds: r.local_builds,
         relax_seconds,
     };
     write_outputs(out, cfg, &r, &summary)?;

@@ -142,6 +142,12 @@ pub struct SlidingConfig {
     /// 5.2-5.7 at 0.2, 4.8-4.9 at 0.3, 4.6 at 0.5, 5.8 at 0.8; docs/performance.md). The skin changes
     /// only which zero-force pairs the list holds: results agree to round-off (dem/tests/sliding.rs).
     pub skin_fraction: f64,
+    /// Rebuild only the neighbour rows of the particles that moved (`dem::neighbor`'s local
+    /// rebuilds); default true: once the band lies against a body, a few per cent of the particles
+    /// move (L = 100 d0, p_N = 0.01 E, from 4 L on, 2 threads, the same checkpoint: 10 300 steps in
+    /// 90 s against 8 825 with full builds); where the band is wide, most rebuilds stay full and the
+    /// cost is unchanged (L = 50 d0 over 6 L: 57.6 s against 57.9 s; the quick box: no local rebuild).
+    pub local_rebuilds: bool,
     /// Profile bins over the height; default 400 (paper, Fig. 4).
     pub bins: usize,
     /// Measurement windows over the run (one h_TBL and rho_TBL each, Fig. 5); default 100 (one per
@@ -204,6 +210,7 @@ impl Default for SlidingConfig {
             distance_over_l: 50.0,
             time_step_fraction: 0.1,
             skin_fraction: 0.3,
+            local_rebuilds: true,
             bins: 400,
             windows: 100,
             samples_per_window: 10,

@@ -290,6 +290,11 @@ pub struct SlidingResult {
     pub last: Snapshot,
     /// Wall-clock seconds of the stepping (relaxation and set-up excluded), summed over resumed parts.
     pub wall_seconds: f64,
+    /// Neighbour-list builds of the run, and how many of them were local (`dem::neighbor`).
+    #[serde(default)]
+    pub neighbour_builds: u64,
+    #[serde(default)]
+    pub local_builds: u64,
 }
 
 /// What a sliding run records: the profiles and the forces on both bodies.
@@ -354,6 +359,7 @@ pub fn run_resumable(
     let run_cfg = RunConfig {
         time_step: TimeStep::FractionOfCritical(cfg.time_step_fraction),
         skin_fraction: cfg.skin_fraction,
+        local_rebuilds: cfg.local_rebuilds,
         ..RunConfig::default()
     };
     let mut rig = Rig::new(
@@ -576,6 +582,8 @@ pub fn run_resumable(
         first,
         last,
         wall_seconds: recorded.wall_seconds,
+        neighbour_builds: rig.sim.neighbors().builds,
+        local_builds: rig.sim.neighbors().local_builds,
     })
 }
 
