@@ -86,20 +86,7 @@ impl NeighborList {
             }
             return Ok(Rebuild::None);
         }
-        let d = |(a, b): (&Vec3, &Vec3)| (a - b).norm();
-        // max is exact in any order, so both branches agree.
-        let max_d = if parallel {
-            pos.par_iter()
-                .with_min_len(1024)
-                .zip(self.ref_pos.par_iter())
-                .map(d)
-                .reduce(|| 0.0, f64::max)
-        } else {
-            pos.iter()
-                .zip(self.ref_pos.iter())
-                .map(d)
-                .fold(0.0, f64::max)
-        };
+        let max_d = self.max_displacement(pos, parallel);
         let dl = (bx.lengths() - self.ref_lengths).norm();
         let skin = self.skin;
         if dl > 0.0 {

@@ -190,6 +190,13 @@ impl NeighborList {
         if self.ref_pos.len() != pos.len() || self.row_start.len() != pos.len() + 1 {
             return true;
         }
+        let dl = (bx.lengths() - self.ref_lengths).norm();
+        2.0 * self.max_displacement(pos, parallel) + dl > self.skin
+    }
+
+    /// The largest distance of a particle from its reference position (`pos` and the references
+    /// must have the same length).
+    fn max_displacement(&self, pos: &[Vec3], parallel: bool) -> f64 {
         let d2 = |(a, b): (&Vec3, &Vec3)| (a - b).norm_squared();
         // max is exact in any order, so both branches agree.
         let max_d2 = if parallel {
@@ -204,8 +211,7 @@ impl NeighborList {
                 .map(d2)
                 .fold(0.0, f64::max)
         };
-        let dl = (bx.lengths() - self.ref_lengths).norm();
-        2.0 * max_d2.sqrt() + dl > self.skin
+        max_d2.sqrt()
     }
 
     /// Rebuilds the list for `pos` (wrapped into the box in place), keeping the history of pairs that
