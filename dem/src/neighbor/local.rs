@@ -34,7 +34,7 @@
 use rayon::prelude::*;
 
 use super::grid::{Binned, Steps};
-use super::{ordered, Image, NeighborList, PairRange, CHUNK};
+use super::{in_chunks, ordered, Image, NeighborList, PairRange, CHUNK};
 use crate::domain::SimBox;
 use crate::error::Result;
 use crate::Vec3;
@@ -166,12 +166,7 @@ impl NeighborList {
             }
             out
         };
-        let chunks = moved.len().div_ceil(CHUNK);
-        let mut found: Vec<Vec<(u32, u32, Image)>> = if parallel {
-            (0..chunks).into_par_iter().map(search).collect()
-        } else {
-            (0..chunks).map(search).collect()
-        };
+        let mut found = in_chunks(moved.len(), parallel, search);
         found.push(kept);
         self.assemble(n, &found, parallel);
         for &k in moved {

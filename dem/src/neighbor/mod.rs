@@ -251,12 +251,7 @@ impl NeighborList {
             }
             out
         };
-        let chunks = n.div_ceil(CHUNK);
-        let found: Vec<Vec<(u32, u32, Image)>> = if parallel {
-            (0..chunks).into_par_iter().map(search).collect()
-        } else {
-            (0..chunks).map(search).collect()
-        };
+        let found = in_chunks(n, parallel, search);
         self.assemble(n, &found, parallel);
         self.ref_pos.clear();
         self.ref_pos.extend_from_slice(pos);
@@ -421,6 +416,21 @@ fn ordered(i: usize, j: usize, img: Image) -> (u32, u32, Image) {
         (j as u32, i as u32, img.map(|s| -s))
     } else {
         (i as u32, j as u32, img)
+    }
+}
+
+/// The pairs found by `search` over the chunks of `count` searching particles, on the current rayon
+/// pool when `parallel`, in chunk order either way.
+fn in_chunks(
+    count: usize,
+    parallel: bool,
+    search: impl Fn(usize) -> Vec<(u32, u32, Image)> + Sync + Send,
+) -> Vec<Vec<(u32, u32, Image)>> {
+    let chunks = count.div_ceil(CHUNK);
+    if parallel {
+        (0..chunks).into_par_iter().map(search).collect()
+    } else {
+        (0..chunks).map(search).collect()
     }
 }
 
