@@ -101,7 +101,7 @@ pub fn run(args: SlidingArgs, threads: usize) -> Result<()> {
     }
     let how = args.run.resolve()?;
     tracing::info!(runs = runs.len(), at_once = how.at_once, "sliding grid");
-    let results = run_grid(&runs, &args.out, &how)?;
+    let results = run_grid(&runs, &args.out, &how, crate::parallelism(threads))?;
     let done = results.iter().flatten().count();
     for s in results.iter().flatten() {
         println!(

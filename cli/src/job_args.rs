@@ -12,7 +12,8 @@ use dem::jobs::{JobCache, RunJobs, Shard};
 /// Concurrency and shard of a list of jobs.
 #[derive(Debug, Args)]
 pub struct RunArgs {
-    /// Jobs run side by side (default: the machine's cores; each job is single-threaded).
+    /// Jobs run side by side (default: the machine's cores; side by side, each job is
+    /// single-threaded; `cgdem sliding` with --jobs 1 gives each job --threads).
     #[arg(long)]
     pub jobs: Option<usize>,
     /// This task's share, i/n (a Slurm array: --shard $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT);

@@ -192,3 +192,134 @@ fn a_single_run_logs_the_progress_of_every_stage_by_default() {
     assert!(!err.contains("inf"), "{err}");
     assert!(out.join("summary.json").exists());
 }
+
+/// `grid.csv` without its wall-clock column: every figure the physics gives, row by row.
+fn grid_rows(out: &Path) -> Vec<String> {
+    let csv = std::fs::read_to_string(out.join("grid.csv")).unwrap();
+    let mut lines = csv.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let clock = head.iter().position(|&h| h == "run_seconds").unwrap();
+    lines
+        .map(|l| {
+            let mut f: Vec<&str> = l.split(',').collect();
+            f.remove(clock);
+            f.join(",")
+        })
+        .collect()
+}
+
+/// The grid run in one process, two jobs side by side: the reference of the sharded runs.
+fn one_process_grid(dir: &Path, cfg: &Path) -> Vec<String> {
+    let out = dir.join("one");
+    let o = cgdem(&[
+        "sliding",
+        cfg.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--jobs",
+        "2",
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    grid_rows(&out)
+}
+
+/// A Slurm array task runs its share of the pending stage and exits; the arrays of scripts/slurm-grid
+/// are chained `afterok`, so a task whose runs wait on another task's box or strength job must leave
+/// them pending and exit 0, never fail (it did: "this shard's run needs a strength job that another
+/// shard has not finished"). Three rounds of two tasks, in turn, as three chained arrays would run
+/// them when each task's stage ends before the other's starts; then the same bits as one process.
+#[test]
+fn a_sharded_grid_exits_cleanly_at_every_stage_and_gives_the_one_process_grid() {
+    let dir = scratch("sliding-shards");
+    let cfg = dir.join("grid.toml");
+    std::fs::write(&cfg, GRID).unwrap();
+    let out = dir.join("out");
+    let mut done = Vec::new();
+    for round in 1..=3 {
+        for shard in ["0/2", "1/2"] {
+            let o = cgdem(&[
+                "sliding",
+                cfg.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+                "--jobs",
+                "1",
+                "--threads",
+                "2",
+                "--shard",
+                shard,
+            ]);
+            let err = text(&o.stderr);
+            assert!(o.status.success(), "round {round}, shard {shard}: {err}");
+            let said = text(&o.stdout);
+            let line = said.lines().last().unwrap_or_default().to_string();
+            done.push(line.split(" of ").next().unwrap_or_default().to_string());
+        }
+    }
+    // The first round relaxes the boxes and leaves every run pending; the last finds all done.
+    assert_eq!(done[0], "0", "{done:?}");
+    assert_eq!(done[5], "3", "{done:?}");
+    let rows = grid_rows(&out);
+    assert!(!rows.iter().any(|r| r.contains("pending")), "{rows:?}");
+    // Two threads per job in the tasks, one per job side by side: the same bits.
+    assert_eq!(rows, one_process_grid(&dir, &cfg));
+}
+
+/// The cluster path under the real scheduler: scripts/slurm-grid submits the grid as three chained
+/// arrays of two tasks and a final task, on the one-node cluster of scripts/setup-slurm (which the
+/// test command runs first). Every run is done by one of the two array tasks, and the grid is the
+/// one process's to the bit.
+#[test]
+fn a_grid_run_as_chained_slurm_arrays_gives_the_one_process_grid() {
+    let sinfo = std::process::Command::new("sinfo")
+        .args(["-h", "-o", "%T"])
+        .output();
+    let up = sinfo.is_ok_and(|o| o.status.success() && !text(&o.stdout).trim().is_empty());
+    assert!(
+        up,
+        "no Slurm cluster answers `sinfo`: run `bash scripts/setup-slurm` (the test command does)"
+    );
+    let dir = scratch("sliding-slurm");
+    let cfg = dir.join("grid.toml");
+    std::fs::write(&cfg, GRID).unwrap();
+    let out = dir.join("out");
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scripts/slurm-grid");
+    let o = std::process::Command::new("bash")
+        .arg(&script)
+        .args(["2", "3", "--wait", "--", "sliding"])
+        .arg(&cfg)
+        .arg("--out")
+        .arg(&out)
+        .env("CGDEM", env!("CARGO_BIN_EXE_cgdem"))
+        .env("SBATCH_OPTS", "--cpus-per-task=1")
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    let logs = out.join("slurm-logs");
+    let final_log = std::fs::read_to_string(logs.join("final.log")).unwrap_or_default();
+    assert!(
+        o.status.success(),
+        "{}\n{}\nfinal task:\n{final_log}",
+        text(&o.stdout),
+        text(&o.stderr)
+    );
+    assert!(final_log.contains("3 of 3 runs done"), "{final_log}");
+    for stage in 1..=3 {
+        for task in 0..2 {
+            assert!(logs.join(format!("stage{stage}-{task}.log")).exists());
+        }
+    }
+    // The array tasks ran every run (the final task only collected): shards 0 and 1 of 2.
+    let mut by: Vec<String> = done_jobs(&out.join("runs"))
+        .iter()
+        .map(|r| {
+            std::fs::read_to_string(r.join("ran_by"))
+                .unwrap()
+                .trim()
+                .to_string()
+        })
+        .collect();
+    by.sort();
+    assert_eq!(by, ["0 2", "0 2", "1 2"], "{by:?}");
+    assert_eq!(grid_rows(&out), one_process_grid(&dir, &cfg));
+}

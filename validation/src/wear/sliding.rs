@@ -479,46 +479,46 @@ pub fn run_sliding_with(
 /// Runs every config of a grid as cached jobs under `out/runs/` (their relaxed boxes in
 /// `out/samples/`, their strength jobs in `out/strength/`) and writes `out/grid.csv`; `None` where
 /// another (non-concurrent) shard's job is not done yet.
+///
+/// Each job's engine steps on one thread when jobs run side by side (`how.at_once > 1`: the cores are
+/// the jobs'), and with `par` when they run one at a time (a cluster task given several cores for
+/// its share: `--jobs 1 --threads N`). Either way the same bits (the engine is deterministic for any
+/// thread count), so the cache is shared by both arrangements.
 pub fn run_grid(
     runs: &[SlidingConfig],
     out: &Path,
     how: &RunJobs,
+    par: Parallelism,
 ) -> Result<Vec<Option<SlidingSummary>>> {
-    let samples = samples_cache(out);
-    // Boxes, then strength jobs, then runs, each a job list: a stage waits for the one before it (a
-    // Slurm array's task that finds another task's box missing leaves its runs pending).
-    let results = if relax_boxes(runs, &samples, how, Parallelism::Sequential)? {
-        let taus = shear_strengths(
-            runs,
-            &samples,
-            &out.join("strength"),
-            how,
-            Parallelism::Sequential,
-        )?;
-        let cache = JobCache::new(out.join("runs"));
-        run_jobs(&cache, runs, how, |cfg, dir| {
-            let k = runs
-                .iter()
-                .position(|c| c == cfg)
-                .expect("a run of the list");
-            let tau = taus[k].as_ref().ok_or_else(|| {
-                ValidationError::Dem(dem::DemError::InvalidConfig(
-                    "sliding grid: this shard's run needs a strength job that another shard has \
-                     not finished; rerun once it has"
-                        .into(),
-                ))
-            })?;
-            run_sliding_with(
-                cfg,
-                tau,
-                &samples,
-                dir,
-                Parallelism::Sequential,
-                &mut |_, _| {},
-            )
-        })?
+    let par = if how.at_once > 1 {
+        Parallelism::Sequential
     } else {
-        vec![None; runs.len()]
+        par
+    };
+    let samples = samples_cache(out);
+    // Boxes, then strength jobs, then runs, each a job list: a stage waits for the whole stage before
+    // it. A Slurm array's task that finds another task's box or strength job missing leaves its runs
+    // pending and exits cleanly, so that the next stage's array (submitted `afterok`) starts; a
+    // failure here would break that chain (scripts/slurm-grid).
+    let taus = if relax_boxes(runs, &samples, how, par)? {
+        shear_strengths(runs, &samples, &out.join("strength"), how, par)?
+            .into_iter()
+            .collect::<Option<Vec<ShearStrength>>>()
+    } else {
+        None
+    };
+    let results = match taus {
+        Some(taus) => {
+            let cache = JobCache::new(out.join("runs"));
+            run_jobs(&cache, runs, how, |cfg, dir| {
+                let k = runs
+                    .iter()
+                    .position(|c| c == cfg)
+                    .expect("a run of the list");
+                run_sliding_with(cfg, &taus[k], &samples, dir, par, &mut |_, _| {})
+            })?
+        }
+        None => vec![None; runs.len()],
     };
     let mut csv = String::from(
         "p_n,strength,d_star,rho_tbl,h_tbl,p_t,tau_m,p_t_over_tau_m,p_t_over_tau_rho,tau_flow,p_t_over_tau_flow,agitation,regime,body_reached_at_l,interior_windows,interior_p_t_over_tau_m,interior_p_t_over_tau_flow,particles,run_seconds,key\n",
