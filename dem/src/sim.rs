@@ -14,9 +14,9 @@ use crate::domain::{BoxControl, SimBox};
 use crate::energy::EnergyLedger;
 use crate::error::{DemError, Result};
 use crate::force::{ForceBuffers, ForcePhase};
-use crate::integrate::advance_free;
+use crate::integrate::{advance_free, StepParams};
 use crate::material::{PairCoefficients, PairModel};
-use crate::neighbor::{NeighborList, PairRange};
+use crate::neighbor::{NeighborList, PairRange, Rebuild};
 use crate::state::Particles;
 use crate::walls::{Group, RigidIndex};
 use crate::Vec3;
@@ -158,6 +158,13 @@ pub struct Simulation {
     pub(crate) have_virial_at: Option<u64>,
     pub(crate) parallelism: Parallelism,
     pub(crate) pool: Option<Arc<rayon::ThreadPool>>,
+    /// The force phase's kinematics records hold the particles' state: the integrator wrote them and
+    /// nothing has moved a particle since (set false at the start of every `run`, since `particles`
+    /// is public, and by list rebuilds, which wrap positions, and box moves).
+    pub(crate) kin_fresh: bool,
+    /// The largest distance of a particle from the list's reference positions, as the integrator
+    /// measured it (valid while `kin_fresh`).
+    pub(crate) max_displacement: f64,
 }
 
 impl Simulation {
@@ -194,6 +201,8 @@ impl Simulation {
             have_virial_at: None,
             parallelism,
             pool: None,
+            kin_fresh: false,
+            max_displacement: 0.0,
         };
         sim.set_parallelism(parallelism)?;
         sim.reconfigure()?;
@@ -406,6 +415,7 @@ impl Simulation {
     /// [`Parallelism::Adaptive`] a system below [`SERIAL_BELOW`] particles steps on the calling thread
     /// (the result is the same to the bit either way).
     pub fn run(&mut self, n: u64) -> Result<()> {
+        self.kin_fresh = false;
         let serial = matches!(self.parallelism, Parallelism::Adaptive(_))
             && self.particles.len() < SERIAL_BELOW;
         match self.pool.clone() {
@@ -437,13 +447,20 @@ impl Simulation {
         let _step = tracing::trace_span!("step", n = self.step).entered();
         {
             let _s = tracing::trace_span!("neighbor").entered();
-            self.list.update(
+            // The integrator measured the displacement as it moved the particles; nothing has
+            // moved them since when the records are fresh.
+            let known = self.kin_fresh.then_some(self.max_displacement);
+            let rebuilt = self.list.update_known(
                 &mut self.particles.pos,
                 &self.particles.radius,
                 &self.sim_box,
                 &self.coef,
                 parallel,
+                known,
             )?;
+            if !matches!(rebuilt, Rebuild::None) {
+                self.kin_fresh = false;
+            }
         }
         let stress_control = matches!(self.box_control, BoxControl::Stress { .. });
         let virial = self.want_virial || stress_control;
@@ -451,6 +468,7 @@ impl Simulation {
             energy: self.config.track_energy,
             virial,
             parallel,
+            defer_gather: true,
         };
         let totals = {
             let _s = tracing::trace_span!("forces").entered();
@@ -461,6 +479,8 @@ impl Simulation {
                 &self.sim_box,
                 &mut self.list,
                 self.dt,
+                self.kin_fresh,
+                &self.rigid.is_rigid,
             )
         };
         let wall_work = {
@@ -475,18 +495,24 @@ impl Simulation {
         };
         let sums = {
             let _s = tracing::trace_span!("integrate").entered();
+            let forces = self.buffers.for_integrator(self.particles.len());
+            let params = StepParams {
+                damping: self.damping_coef,
+                dt: self.dt,
+                energy: self.config.track_energy,
+                planar: self.config.planar,
+                parallel,
+            };
             advance_free(
                 &mut self.particles,
-                &self.buffers.force,
-                &self.buffers.torque,
+                forces,
                 &self.rigid.is_rigid,
-                self.damping_coef,
-                self.dt,
-                self.config.track_energy,
-                self.config.planar,
-                parallel,
+                Some(self.list.reference_positions()),
+                &params,
             )
         };
+        self.max_displacement = sums.max_displacement2.sqrt();
+        self.kin_fresh = true;
         if self.config.track_energy {
             let l = &mut self.ledger;
             l.kinetic = sums.kinetic;
@@ -516,6 +542,10 @@ impl Simulation {
     }
 
     fn advance_box(&mut self) -> Result<()> {
+        if !matches!(self.box_control, BoxControl::Fixed) {
+            // A remap moves the particles after the integrator recorded them.
+            self.kin_fresh = false;
+        }
         let strain: Vec3 = match self.box_control {
             BoxControl::Fixed => return Ok(()),
             BoxControl::StrainRate { rate, remap } => {

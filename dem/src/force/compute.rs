@@ -3,7 +3,9 @@
 //! evaluates them in batches of `LANES` (see [`super::cohesive::Batch`]). Blocks run in two colours
 //! (even, then odd): while its colour runs, block `b` owns the sums of blocks `b` and `b + 1`, so a
 //! pair whose second particle lies in either adds straight into both particles' sums; only pairs
-//! reaching two blocks or more ahead park their output, added afterwards per particle in pair order.
+//! reaching two blocks or more ahead park their output, added afterwards per particle in pair order
+//! (by the integrator as it visits the particle, or by a gather pass of its own when the step computes
+//! the virial: [`ForcePhase::defer_gather`]).
 //! Blocks and colours are the same for any thread count and every sum happens in the same order, so
 //! one thread and many give bit-identical results. Energies combine block by block along a fixed tree.
 
@@ -89,15 +91,51 @@ pub(crate) struct ForceBuffers {
     /// in that list: the gather visits these only (558 of the amorphous bench's 6 317 particles).
     parked_rows: Vec<u32>,
     parked_chunk: Vec<u32>,
+    /// The rigid ones among `parked_rows`: the walls need their sums before the integrator runs.
+    parked_rigid: Vec<u32>,
+    /// The parked outputs wait for the integrator (see [`ForcePhase::defer_gather`]).
+    gather_pending: bool,
     /// First particle of each block, then the particle count (see [`block_bounds`]).
     bounds: Vec<usize>,
     /// The neighbour-list build the constants, blocks and parked lists belong to (None: stale).
     built_for: Option<u64>,
 }
 
+/// The force phase's outputs as the integrator takes them (see [`ForceBuffers::for_integrator`]).
+pub(crate) struct IntegratorView<'a> {
+    pub force: &'a mut [Vec3],
+    pub torque: &'a mut [Vec3],
+    /// The kinematics records, for the integrator to write.
+    pub kin: &'a mut [Kin],
+    /// Parked pair outputs that the free particles have not received yet (None: their sums are
+    /// complete).
+    pub parked: Option<ParkedView<'a>>,
+}
+
+/// The parked outputs each particle still has to add.
+#[derive(Clone, Copy)]
+pub(crate) struct ParkedView<'a> {
+    start: &'a [u32],
+    pair: &'a [u32],
+    out: &'a [Parked],
+}
+
+impl ParkedView<'_> {
+    /// Adds particle `k`'s parked outputs to its force and torque, in pair order (the gather's sums
+    /// exactly).
+    #[inline(always)]
+    pub fn add_to(&self, k: usize, f: &mut Vec3, t: &mut Vec3) {
+        for &p in &self.pair[self.start[k] as usize..self.start[k + 1] as usize] {
+            let o = &self.out[p as usize];
+            *f -= o.f;
+            *t += o.tj;
+        }
+    }
+}
+
 /// What a pair reaching two blocks or more ahead leaves for its second particle.
 #[derive(Debug, Clone, Copy, Default)]
-struct Parked {
+pub(crate) struct Parked {
     /// Force on i (j receives its opposite).
     f: Vec3,
     /// Torque on j.
@@ -130,14 +168,20 @@ pub(crate) struct ForcePhase {
     pub energy: bool,
     pub virial: bool,
     pub parallel: bool,
+    /// Leave the free particles' parked outputs for the integrator to add as it visits them (one
+    /// pass and one join fewer per step); ignored with `virial`, whose parked terms need the
+    /// separations of this step's records, which the integrator overwrites.
+    pub defer_gather: bool,
 }
 
 /// Kinematics of one particle, gathered once per step so that a pair reads its partner from one place.
+/// The integrator writes them as it updates each particle (see [`ForceBuffers::for_integrator`]); the force
+/// phase gathers them itself only when something else moved the particles since.
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct Kin {
-    x: Vec3,
-    v: Vec3,
-    w: Vec3,
+    pub x: Vec3,
+    pub v: Vec3,
+    pub w: Vec3,
 }
 
 /// The read-only pair arrays of the neighbour list, and the particle count.
@@ -377,6 +421,25 @@ fn shift_table(bx: &SimBox) -> [Vec3; 27] {
 }
 
 impl ForceBuffers {
+    /// What the integrator takes from the force phase: the forces and torques (complete once it has
+    /// added the parked outputs it is handed, if any) and the kinematics records of `n` particles to
+    /// write as it advances them, so that a step whose particles nothing moved after that skips the
+    /// records' gather (`kin_fresh` of [`ForceBuffers::compute`]): one pass and one join fewer.
+    pub fn for_integrator(&mut self, n: usize) -> IntegratorView<'_> {
+        self.kin.resize(n, Kin::default());
+        let pending = std::mem::take(&mut self.gather_pending);
+        IntegratorView {
+            force: &mut self.force,
+            torque: &mut self.torque,
+            kin: &mut self.kin,
+            parked: pending.then_some(ParkedView {
+                start: &self.parked_start,
+                pair: &self.parked_pair,
+                out: &self.out,
+            }),
+        }
+    }
+
     /// Marks the per-pair constants stale (after a change of particles, model or groups).
     pub fn invalidate(&mut self) {
         self.built_for = None;
@@ -384,7 +447,13 @@ impl ForceBuffers {
 
     /// Recomputes the per-pair constants and the parked lists when the neighbour list was rebuilt or
     /// they were invalidated. Element-wise and in pair order: deterministic for any thread count.
-    fn refresh(&mut self, coef: &PairCoefficients, parts: &Particles, list: &NeighborList) {
+    fn refresh(
+        &mut self,
+        coef: &PairCoefficients,
+        parts: &Particles,
+        list: &NeighborList,
+        is_rigid: &[bool],
+    ) {
         if self.built_for == Some(list.builds) && self.consts.len() == list.len() {
             return;
         }
@@ -426,10 +495,17 @@ impl ForceBuffers {
             }
         }
         self.parked_chunk.push(self.parked_rows.len() as u32);
+        self.parked_rigid.clear();
+        let rigid = |k: &&u32| is_rigid.get(**k as usize).copied().unwrap_or(false);
+        self.parked_rigid
+            .extend(self.parked_rows.iter().filter(rigid));
         self.built_for = Some(list.builds);
     }
 
-    /// Evaluates all pairs and sums forces, torques (and optionally energies and virials).
+    /// Evaluates all pairs and sums forces, torques (and optionally energies and virials). With
+    /// `kin_fresh`, the kinematics records already hold `parts`' state (the integrator wrote them and
+    /// nothing moved the particles since), so they are not gathered again.
+    #[allow(clippy::too_many_arguments)]
     pub fn compute(
         &mut self,
         phase: ForcePhase,
@@ -438,15 +514,19 @@ impl ForceBuffers {
         bx: &SimBox,
         list: &mut NeighborList,
         dt: f64,
+        kin_fresh: bool,
+        is_rigid: &[bool],
     ) -> PairEnergyTotals {
         let n = parts.len();
+        self.gather_pending = false;
         self.force.resize(n, Vec3::zeros());
         self.torque.resize(n, Vec3::zeros());
         if phase.virial {
             self.virial.resize(n, Matrix3::zeros());
         }
-        self.refresh(coef, parts, list);
+        self.refresh(coef, parts, list, is_rigid);
         let mut kin = std::mem::take(&mut self.kin);
+        let kin_fresh = kin_fresh && kin.len() == n;
         kin.resize(n, Kin::default());
         // Copies (no sums): any chunking gives the same records.
         const KIN_CHUNK: usize = 512;
@@ -465,7 +545,11 @@ impl ForceBuffers {
                 slot.w = w[k];
             }
         };
-        if phase.parallel {
+        if kin_fresh {
+            debug_assert!((0..n).all(|k| kin[k].x == parts.pos[k]
+                && kin[k].v == parts.vel[k]
+                && kin[k].w == parts.omega[k]));
+        } else if phase.parallel {
             kin.par_chunks_mut(KIN_CHUNK).enumerate().for_each(fill);
         } else {
             kin.chunks_mut(KIN_CHUNK).enumerate().for_each(fill);
@@ -534,7 +618,20 @@ impl ForceBuffers {
             let part = span.run::<T, E>(ctx, &pairs, phase.parallel);
             totals = totals.then(&part);
         }
-        if !self.parked_pair.is_empty() {
+        let parked = !self.parked_pair.is_empty();
+        if parked && phase.defer_gather && !phase.virial {
+            // The walls read the rigid particles' sums before the integrator runs.
+            let view = ParkedView {
+                start: &self.parked_start,
+                pair: &self.parked_pair,
+                out: &self.out,
+            };
+            for &k in &self.parked_rigid {
+                let k = k as usize;
+                view.add_to(k, &mut self.force[k], &mut self.torque[k]);
+            }
+            self.gather_pending = true;
+        } else if parked {
             let _g = tracing::trace_span!("gather").entered();
             self.gather_parked(ctx, list, phase);
         }

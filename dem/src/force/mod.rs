@@ -18,4 +18,4 @@ pub mod hertz;
 mod pair_consts;
 
 pub use cohesive::{normal_energy, normal_force, tangential_cap};
-pub(crate) use compute::{ForceBuffers, ForcePhase};
+pub(crate) use compute::{ForceBuffers, ForcePhase, IntegratorView, Kin};

@@ -77,16 +77,32 @@ impl NeighborList {
         range: &impl PairRange,
         parallel: bool,
     ) -> Result<Rebuild> {
+        self.update_known(pos, radius, bx, range, parallel, None)
+    }
+
+    /// [`NeighborList::update`] with the largest displacement from the reference positions already
+    /// known, `known_max_d` (the integrator measures it as it moves the particles, which saves a pass
+    /// over them and, on a pool, a join per step). It must be exactly what `max_displacement` would
+    /// return: a max is exact in any order, so the same squares give the same value.
+    pub(crate) fn update_known(
+        &mut self,
+        pos: &mut [Vec3],
+        radius: &[f64],
+        bx: &SimBox,
+        range: &impl PairRange,
+        parallel: bool,
+        known_max_d: Option<f64>,
+    ) -> Result<Rebuild> {
         let n = pos.len();
         let stale = self.ref_pos.len() != n || self.row_start.len() != n + 1;
         if !self.local || stale {
-            if self.needs_rebuild(pos, bx, parallel) {
+            if self.needs_rebuild_known(pos, bx, parallel, known_max_d) {
                 self.build(pos, radius, bx, range)?;
                 return Ok(Rebuild::Full);
             }
             return Ok(Rebuild::None);
         }
-        let max_d = self.max_displacement(pos, parallel);
+        let max_d = known_max_d.unwrap_or_else(|| self.max_displacement(pos, parallel));
         let dl = (bx.lengths() - self.ref_lengths).norm();
         let skin = self.skin;
         if dl > 0.0 {

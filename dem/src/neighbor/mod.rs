@@ -187,11 +187,30 @@ impl NeighborList {
 
     /// Whether the particles or the box have moved enough since the last build to need a new list.
     pub fn needs_rebuild(&self, pos: &[Vec3], bx: &SimBox, parallel: bool) -> bool {
+        self.needs_rebuild_known(pos, bx, parallel, None)
+    }
+
+    /// [`NeighborList::needs_rebuild`] with the largest displacement already known (see
+    /// [`NeighborList::update_known`]).
+    fn needs_rebuild_known(
+        &self,
+        pos: &[Vec3],
+        bx: &SimBox,
+        parallel: bool,
+        known: Option<f64>,
+    ) -> bool {
         if self.ref_pos.len() != pos.len() || self.row_start.len() != pos.len() + 1 {
             return true;
         }
         let dl = (bx.lengths() - self.ref_lengths).norm();
-        2.0 * self.max_displacement(pos, parallel) + dl > self.skin
+        let max_d = known.unwrap_or_else(|| self.max_displacement(pos, parallel));
+        2.0 * max_d + dl > self.skin
+    }
+
+    /// The positions at the last build, for a pass that measures the displacement as it moves the
+    /// particles (the integrator).
+    pub(crate) fn reference_positions(&self) -> &[Vec3] {
+        &self.ref_pos
     }
 
     /// The largest distance of a particle from its reference position (`pos` and the references
