@@ -63,11 +63,8 @@ pub(crate) struct StepParams {
 
 /// Advances free particles one step; with `energy`, also sums the kinetic energy and the damping
 /// power (two chains of dependent additions, a few per cent of a step, skipped when nobody reads
-/// them). The same pass, while each particle is in registers, does three jobs of other phases, each
-/// of which was a pass over the particles and, on a pool, a join per step (issue 21):
-/// - it adds a free particle's parked pair outputs to its force and torque first
-///   (`forces.parked`, the force phase's gather, in the same order, so the sums are the same to the
-///   bit);
+/// them). The same pass, while each particle is in registers, does two jobs of other phases, each of
+/// which was a pass over the particles and, on a pool, a join per step (issue 21):
 /// - it writes every particle's new state (rigid ones' as the walls left it) to `forces.kin`, the
 ///   force phase's records, so the next step need not gather them;
 /// - with `reference`, it returns the largest squared distance from those positions (the list's
@@ -88,12 +85,7 @@ pub(crate) fn advance_free(
         ..
     } = parts;
     let (mass, inertia) = (&*mass, &*inertia);
-    let IntegratorView {
-        force,
-        torque,
-        kin,
-        parked,
-    } = forces;
+    let IntegratorView { force, torque, kin } = forces;
     let n = pos.len();
     assert!(
         kin.len() == n && force.len() == n && torque.len() == n,
@@ -108,14 +100,7 @@ pub(crate) fn advance_free(
         parallel,
     } = *p;
     let run = |start: usize, s: Slices| -> StepSums {
-        let Slices {
-            x,
-            v,
-            w,
-            kin,
-            f: fs,
-            t: ts,
-        } = s;
+        let Slices { x, v, w, kin } = s;
         let (mut ke, mut pd, mut screen, mut d2) = (0.0, 0.0, 0.0, 0.0f64);
         for k in 0..x.len() {
             let i = start + k;
@@ -124,12 +109,9 @@ pub(crate) fn advance_free(
                 ke += 0.5 * (m * v[k].norm_squared() + inr * w[k].norm_squared());
             }
             if is_rigid[i] {
-                // Moved by the walls already (their parked terms were added before): only screened.
+                // Moved by the walls already: only screened.
                 screen += 0.0 * (x[k].sum() + v[k].sum() + w[k].sum());
             } else {
-                if let Some(parked) = &parked {
-                    parked.add_to(i, &mut fs[k], &mut ts[k]);
-                }
                 if planar {
                     v[k].z = 0.0;
                     w[k].x = 0.0;
@@ -139,8 +121,8 @@ pub(crate) fn advance_free(
                 if energy {
                     pd += damping * v[k].norm_squared() + cw * w[k].norm_squared();
                 }
-                let mut f = fs[k] - damping * v[k];
-                let mut t = ts[k] - cw * w[k];
+                let mut f = force[i] - damping * v[k];
+                let mut t = torque[i] - cw * w[k];
                 if planar {
                     f.z = 0.0;
                     t.x = 0.0;
@@ -169,8 +151,6 @@ pub(crate) fn advance_free(
         v: vel,
         w: omega,
         kin,
-        f: force,
-        t: torque,
     };
     tree(0, all, &run, parallel)
 }
@@ -181,8 +161,6 @@ struct Slices<'a> {
     v: &'a mut [Vec3],
     w: &'a mut [Vec3],
     kin: &'a mut [Kin],
-    f: &'a mut [Vec3],
-    t: &'a mut [Vec3],
 }
 
 impl<'a> Slices<'a> {
@@ -191,24 +169,18 @@ impl<'a> Slices<'a> {
         let (v0, v1) = self.v.split_at_mut(mid);
         let (w0, w1) = self.w.split_at_mut(mid);
         let (k0, k1) = self.kin.split_at_mut(mid);
-        let (f0, f1) = self.f.split_at_mut(mid);
-        let (t0, t1) = self.t.split_at_mut(mid);
         (
             Slices {
                 x: x0,
                 v: v0,
                 w: w0,
                 kin: k0,
-                f: f0,
-                t: t0,
             },
             Slices {
                 x: x1,
                 v: v1,
                 w: w1,
                 kin: k1,
-                f: f1,
-                t: t1,
             },
         )
     }
@@ -247,13 +219,12 @@ mod tests {
 
     /// One free particle under `force` and `torque` for one step of `dt`; returns its record.
     fn advance_one(p: &mut Particles, force: Vec3, torque: Vec3, dt: f64) -> (Kin, StepSums) {
-        let (mut f, mut t, mut kin) = ([force], [torque], [Kin::default()]);
+        let mut kin = [Kin::default()];
         let reference = [Vec3::zeros()];
         let view = IntegratorView {
-            force: &mut f,
-            torque: &mut t,
+            force: &[force],
+            torque: &[torque],
             kin: &mut kin,
-            parked: None,
         };
         let params = StepParams {
             damping: 0.0,

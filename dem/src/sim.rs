@@ -468,7 +468,6 @@ impl Simulation {
             energy: self.config.track_energy,
             virial,
             parallel,
-            defer_gather: true,
         };
         let totals = {
             let _s = tracing::trace_span!("forces").entered();
@@ -480,7 +479,6 @@ impl Simulation {
                 &mut self.list,
                 self.dt,
                 self.kin_fresh,
-                &self.rigid.is_rigid,
             )
         };
         let wall_work = {

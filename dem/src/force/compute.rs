@@ -3,9 +3,7 @@
 //! evaluates them in batches of `LANES` (see [`super::cohesive::Batch`]). Blocks run in two colours
 //! (even, then odd): while its colour runs, block `b` owns the sums of blocks `b` and `b + 1`, so a
 //! pair whose second particle lies in either adds straight into both particles' sums; only pairs
-//! reaching two blocks or more ahead park their output, added afterwards per particle in pair order
-//! (by the integrator as it visits the particle, or by a gather pass of its own when the step computes
-//! the virial: [`ForcePhase::defer_gather`]).
+//! reaching two blocks or more ahead park their output, added afterwards per particle in pair order.
 //! Blocks and colours are the same for any thread count and every sum happens in the same order, so
 //! one thread and many give bit-identical results. Energies combine block by block along a fixed tree.
 
@@ -91,10 +89,6 @@ pub(crate) struct ForceBuffers {
     /// in that list: the gather visits these only (558 of the amorphous bench's 6 317 particles).
     parked_rows: Vec<u32>,
     parked_chunk: Vec<u32>,
-    /// The rigid ones among `parked_rows`: the walls need their sums before the integrator runs.
-    parked_rigid: Vec<u32>,
-    /// The parked outputs wait for the integrator (see [`ForcePhase::defer_gather`]).
-    gather_pending: bool,
     /// First particle of each block, then the particle count (see [`block_bounds`]).
     bounds: Vec<usize>,
     /// The neighbour-list build the constants, blocks and parked lists belong to (None: stale).
@@ -103,39 +97,15 @@ pub(crate) struct ForceBuffers {
 
 /// The force phase's outputs as the integrator takes them (see [`ForceBuffers::for_integrator`]).
 pub(crate) struct IntegratorView<'a> {
-    pub force: &'a mut [Vec3],
-    pub torque: &'a mut [Vec3],
+    pub force: &'a [Vec3],
+    pub torque: &'a [Vec3],
     /// The kinematics records, for the integrator to write.
     pub kin: &'a mut [Kin],
-    /// Parked pair outputs that the free particles have not received yet (None: their sums are
-    /// complete).
-    pub parked: Option<ParkedView<'a>>,
-}
-
-/// The parked outputs each particle still has to add.
-#[derive(Clone, Copy)]
-pub(crate) struct ParkedView<'a> {
-    start: &'a [u32],
-    pair: &'a [u32],
-    out: &'a [Parked],
-}
-
-impl ParkedView<'_> {
-    /// Adds particle `k`'s parked outputs to its force and torque, in pair order (the gather's sums
-    /// exactly).
-    #[inline(always)]
-    pub fn add_to(&self, k: usize, f: &mut Vec3, t: &mut Vec3) {
-        for &p in &self.pair[self.start[k] as usize..self.start[k + 1] as usize] {
-            let o = &self.out[p as usize];
-            *f -= o.f;
-            *t += o.tj;
-        }
-    }
 }
 
 /// What a pair reaching two blocks or more ahead leaves for its second particle.
 #[derive(Debug, Clone, Copy, Default)]
-pub(crate) struct Parked {
+struct Parked {
     /// Force on i (j receives its opposite).
     f: Vec3,
     /// Torque on j.
@@ -168,10 +138,6 @@ pub(crate) struct ForcePhase {
     pub energy: bool,
     pub virial: bool,
     pub parallel: bool,
-    /// Leave the free particles' parked outputs for the integrator to add as it visits them (one
-    /// pass and one join fewer per step); ignored with `virial`, whose parked terms need the
-    /// separations of this step's records, which the integrator overwrites.
-    pub defer_gather: bool,
 }
 
 /// Kinematics of one particle, gathered once per step so that a pair reads its partner from one place.
@@ -421,22 +387,16 @@ fn shift_table(bx: &SimBox) -> [Vec3; 27] {
 }
 
 impl ForceBuffers {
-    /// What the integrator takes from the force phase: the forces and torques (complete once it has
-    /// added the parked outputs it is handed, if any) and the kinematics records of `n` particles to
-    /// write as it advances them, so that a step whose particles nothing moved after that skips the
-    /// records' gather (`kin_fresh` of [`ForceBuffers::compute`]): one pass and one join fewer.
+    /// What the integrator takes from the force phase: the forces and torques, and the kinematics
+    /// records of `n` particles to write as it advances them, so that a step whose particles nothing
+    /// moved after that skips the records' gather (`kin_fresh` of [`ForceBuffers::compute`]): one
+    /// pass and one join fewer.
     pub fn for_integrator(&mut self, n: usize) -> IntegratorView<'_> {
         self.kin.resize(n, Kin::default());
-        let pending = std::mem::take(&mut self.gather_pending);
         IntegratorView {
-            force: &mut self.force,
-            torque: &mut self.torque,
+            force: &self.force,
+            torque: &self.torque,
             kin: &mut self.kin,
-            parked: pending.then_some(ParkedView {
-                start: &self.parked_start,
-                pair: &self.parked_pair,
-                out: &self.out,
-            }),
         }
     }
 
@@ -447,13 +407,7 @@ impl ForceBuffers {
 
     /// Recomputes the per-pair constants and the parked lists when the neighbour list was rebuilt or
     /// they were invalidated. Element-wise and in pair order: deterministic for any thread count.
-    fn refresh(
-        &mut self,
-        coef: &PairCoefficients,
-        parts: &Particles,
-        list: &NeighborList,
-        is_rigid: &[bool],
-    ) {
+    fn refresh(&mut self, coef: &PairCoefficients, parts: &Particles, list: &NeighborList) {
         if self.built_for == Some(list.builds) && self.consts.len() == list.len() {
             return;
         }
@@ -495,10 +449,6 @@ impl ForceBuffers {
             }
         }
         self.parked_chunk.push(self.parked_rows.len() as u32);
-        self.parked_rigid.clear();
-        let rigid = |k: &&u32| is_rigid.get(**k as usize).copied().unwrap_or(false);
-        self.parked_rigid
-            .extend(self.parked_rows.iter().filter(rigid));
         self.built_for = Some(list.builds);
     }
 
@@ -515,16 +465,14 @@ impl ForceBuffers {
         list: &mut NeighborList,
         dt: f64,
         kin_fresh: bool,
-        is_rigid: &[bool],
     ) -> PairEnergyTotals {
         let n = parts.len();
-        self.gather_pending = false;
         self.force.resize(n, Vec3::zeros());
         self.torque.resize(n, Vec3::zeros());
         if phase.virial {
             self.virial.resize(n, Matrix3::zeros());
         }
-        self.refresh(coef, parts, list, is_rigid);
+        self.refresh(coef, parts, list);
         let mut kin = std::mem::take(&mut self.kin);
         let kin_fresh = kin_fresh && kin.len() == n;
         kin.resize(n, Kin::default());
@@ -618,20 +566,10 @@ impl ForceBuffers {
             let part = span.run::<T, E>(ctx, &pairs, phase.parallel);
             totals = totals.then(&part);
         }
-        let parked = !self.parked_pair.is_empty();
-        if parked && phase.defer_gather && !phase.virial {
-            // The walls read the rigid particles' sums before the integrator runs.
-            let view = ParkedView {
-                start: &self.parked_start,
-                pair: &self.parked_pair,
-                out: &self.out,
-            };
-            for &k in &self.parked_rigid {
-                let k = k as usize;
-                view.add_to(k, &mut self.force[k], &mut self.torque[k]);
-            }
-            self.gather_pending = true;
-        } else if parked {
+        // Added per particle in a pass of its own: folded into the integrator's pass (which visits
+        // every particle anyway) it cost 5 % at two threads on both bench workloads (the scattered
+        // loads stall the streaming update; docs/performance.md, 8 Dec).
+        if !self.parked_pair.is_empty() {
             let _g = tracing::trace_span!("gather").entered();
             self.gather_parked(ctx, list, phase);
         }
