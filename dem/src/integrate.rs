@@ -67,13 +67,13 @@ pub(crate) struct StepParams {
 /// which was a pass over the particles and, on a pool, a join per step (issue 21):
 /// - it writes every particle's new state (rigid ones' as the walls left it) to `forces.kin`, the
 ///   force phase's records, so the next step need not gather them;
-/// - with `reference`, it returns the largest squared distance from those positions (the list's
-///   rebuild test, exact in any order since it is a max).
+/// - it returns the largest squared distance from `reference`, the list's positions at its last
+///   build (the rebuild test; exact in any order since it is a max; 0 when the list has none yet).
 pub(crate) fn advance_free(
     parts: &mut Particles,
     forces: IntegratorView,
     is_rigid: &[bool],
-    reference: Option<&[Vec3]>,
+    reference: &[Vec3],
     p: &StepParams,
 ) -> StepSums {
     let Particles {
@@ -91,7 +91,7 @@ pub(crate) fn advance_free(
         kin.len() == n && force.len() == n && torque.len() == n,
         "one force and kinematics record per particle"
     );
-    let reference = reference.filter(|r| r.len() == n);
+    let reference = (reference.len() == n).then_some(reference);
     let StepParams {
         damping,
         dt,
@@ -233,7 +233,7 @@ mod tests {
             planar: false,
             parallel: false,
         };
-        let sums = advance_free(p, view, &[false], Some(&reference), &params);
+        let sums = advance_free(p, view, &[false], &reference, &params);
         (kin[0], sums)
     }
 

@@ -158,13 +158,11 @@ pub struct Simulation {
     pub(crate) have_virial_at: Option<u64>,
     pub(crate) parallelism: Parallelism,
     pub(crate) pool: Option<Arc<rayon::ThreadPool>>,
-    /// The force phase's kinematics records hold the particles' state: the integrator wrote them and
-    /// nothing has moved a particle since (set false at the start of every `run`, since `particles`
-    /// is public, and by list rebuilds, which wrap positions, and box moves).
-    pub(crate) kin_fresh: bool,
-    /// The largest distance of a particle from the list's reference positions, as the integrator
-    /// measured it (valid while `kin_fresh`).
-    pub(crate) max_displacement: f64,
+    /// `Some(largest distance from the list's reference positions)` while the integrator's last pass
+    /// is the particles' state: it wrote the force phase's kinematics records and measured that
+    /// distance, and nothing has moved a particle since. Cleared at the start of every `run` (since
+    /// `particles` is public), by list rebuilds (they wrap positions) and by box moves.
+    pub(crate) integrated: Option<f64>,
 }
 
 impl Simulation {
@@ -201,8 +199,7 @@ impl Simulation {
             have_virial_at: None,
             parallelism,
             pool: None,
-            kin_fresh: false,
-            max_displacement: 0.0,
+            integrated: None,
         };
         sim.set_parallelism(parallelism)?;
         sim.reconfigure()?;
@@ -415,7 +412,7 @@ impl Simulation {
     /// [`Parallelism::Adaptive`] a system below [`SERIAL_BELOW`] particles steps on the calling thread
     /// (the result is the same to the bit either way).
     pub fn run(&mut self, n: u64) -> Result<()> {
-        self.kin_fresh = false;
+        self.integrated = None;
         let serial = matches!(self.parallelism, Parallelism::Adaptive(_))
             && self.particles.len() < SERIAL_BELOW;
         match self.pool.clone() {
@@ -449,7 +446,7 @@ impl Simulation {
             let _s = tracing::trace_span!("neighbor").entered();
             // The integrator measured the displacement as it moved the particles; nothing has
             // moved them since when the records are fresh.
-            let known = self.kin_fresh.then_some(self.max_displacement);
+            let known = self.integrated;
             let rebuilt = self.list.update_known(
                 &mut self.particles.pos,
                 &self.particles.radius,
@@ -459,7 +456,7 @@ impl Simulation {
                 known,
             )?;
             if !matches!(rebuilt, Rebuild::None) {
-                self.kin_fresh = false;
+                self.integrated = None;
             }
         }
         let stress_control = matches!(self.box_control, BoxControl::Stress { .. });
@@ -478,7 +475,7 @@ impl Simulation {
                 &self.sim_box,
                 &mut self.list,
                 self.dt,
-                self.kin_fresh,
+                self.integrated.is_some(),
             )
         };
         let wall_work = {
@@ -505,12 +502,11 @@ impl Simulation {
                 &mut self.particles,
                 forces,
                 &self.rigid.is_rigid,
-                Some(self.list.reference_positions()),
+                self.list.reference_positions(),
                 &params,
             )
         };
-        self.max_displacement = sums.max_displacement2.sqrt();
-        self.kin_fresh = true;
+        self.integrated = Some(sums.max_displacement2.sqrt());
         if self.config.track_energy {
             let l = &mut self.ledger;
             l.kinetic = sums.kinetic;
@@ -542,7 +538,7 @@ impl Simulation {
     fn advance_box(&mut self) -> Result<()> {
         if !matches!(self.box_control, BoxControl::Fixed) {
             // A remap moves the particles after the integrator recorded them.
-            self.kin_fresh = false;
+            self.integrated = None;
         }
         let strain: Vec3 = match self.box_control {
             BoxControl::Fixed => return Ok(()),

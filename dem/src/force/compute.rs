@@ -141,8 +141,8 @@ pub(crate) struct ForcePhase {
 }
 
 /// Kinematics of one particle, gathered once per step so that a pair reads its partner from one place.
-/// The integrator writes them as it updates each particle (see [`ForceBuffers::for_integrator`]); the force
-/// phase gathers them itself only when something else moved the particles since.
+/// The integrator writes them as it updates each particle (see [`ForceBuffers::for_integrator`]);
+/// the force phase gathers them itself only when something else moved the particles since.
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct Kin {
     pub x: Vec3,
